@@ -1,0 +1,83 @@
+#pragma once
+// A physics module (fluid, solid, damage, rigid, coupling): a small object that registers the
+// fields it needs, checks the materials it owns, contributes to the stages of a step, limits the
+// time step and adds columns to timeseries.csv. A module never includes another module's
+// headers; what modules share goes through the particle store and libcore.
+//
+// Stage order of one rate evaluation (Simulation::evaluateRates):
+//   1. halos and neighbour lists (core)
+//   2. kinematics(): densities, colour, strains and strain rates, correction matrices
+//   3. constitutive(): pressure (EOS), stress, damage
+//   4. forces(): pressure, viscous, surface tension, internal stress, artificial viscosity
+//   5. interfaces(): interface conditions between phases (each pair class by one module)
+//   6. constraints(): rigid-body reductions, imposed velocities, fixed particles
+// Then the integrator advances positions, velocities and every (field, rate) pair registered in
+// Simulation::integrated; diagnostics() and output follow.
+#include <functional>
+#include <limits>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "libcore/parameters.hpp"
+
+namespace poresph {
+
+class Simulation;
+
+/// One material of the scene, dispatched to the module that owns its model.
+struct Material {
+  int id = 0;              ///< index in the scene's materials list = value of the 'material' field
+  std::string name;        ///< user's name (e.g. "water")
+  std::string model;       ///< model name (e.g. "fluid", "elastic", "wall")
+  ParameterSet parameters; ///< the material's mapping; the owning module reads and checks it
+};
+
+class Module {
+ public:
+  virtual ~Module() = default;
+  virtual std::string name() const = 0;
+  /// Material models this module owns (a material's 'model' key selects its module).
+  virtual std::vector<std::string> materialModels() const = 0;
+  /// Reads and checks the module's materials (calling finish() on their parameters) and its
+  /// own scene section (may be empty), registers fields in sim.store and resolves handles.
+  virtual void configure(Simulation& sim, const std::vector<const Material*>& materials,
+                         const ParameterSet* section) = 0;
+  /// Called once after the particles were created (initial densities, reference state).
+  virtual void initialise(Simulation& sim) {}
+
+  virtual void kinematics(Simulation& sim) {}
+  virtual void constitutive(Simulation& sim) {}
+  virtual void forces(Simulation& sim) {}
+  virtual void interfaces(Simulation& sim) {}
+  virtual void constraints(Simulation& sim) {}
+
+  /// Largest stable time step of this module (CFL conditions, Eqs. 2.49-2.50).
+  virtual double timeStepLimit(const Simulation& sim) const {
+    return std::numeric_limits<double>::infinity();
+  }
+  /// Global quantities for timeseries.csv (name, value), e.g. energies.
+  virtual void diagnostics(const Simulation& sim,
+                           std::vector<std::pair<std::string, double>>& columns) const {}
+};
+
+/// Modules register themselves by name, one line per module:
+///   PORESPH_REGISTER_MODULE(FluidModule, "fluid")
+class ModuleRegistry {
+ public:
+  using Factory = std::function<std::unique_ptr<Module>()>;
+  static bool add(const std::string& name, Factory factory);
+  static std::unique_ptr<Module> create(const std::string& name);
+  static std::vector<std::string> names();
+  /// The module that owns a material model, or "" if none does.
+  static std::string moduleForModel(const std::string& model);
+};
+
+#define PORESPH_REGISTER_MODULE(Class, name)                                   \
+  namespace {                                                                  \
+  const bool registered_##Class = ::poresph::ModuleRegistry::add(              \
+      name, [] { return std::unique_ptr<::poresph::Module>(new Class()); });   \
+  }
+
+}  // namespace poresph

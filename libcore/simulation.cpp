@@ -1,0 +1,112 @@
+#include "libcore/simulation.hpp"
+
+#include <cmath>
+#include <cstring>
+#include <sstream>
+
+namespace poresph {
+
+Simulation::Simulation(int dimension) : store(dimension) {
+  domain.dimension = dimension;
+  acceleration = store.addReal("acceleration", dimension, kFieldOutput, "core");
+  motion = store.addInt("motion", 1, kFieldDefault, "core");
+}
+
+void Simulation::addModule(std::unique_ptr<Module> m) { modules.push_back(std::move(m)); }
+
+Module* Simulation::module(const std::string& name) const {
+  for (const auto& m : modules)
+    if (m->name() == name) return m.get();
+  return nullptr;
+}
+
+void Simulation::addIntegrated(RealField value, RealField rate, bool freeOnly) {
+  for (const auto& f : integrated)
+    if (f.value.id == value.id) return;
+  integrated.push_back(IntegratedField{value, rate, freeOnly});
+}
+
+void Simulation::updateNeighbours() {
+  const double support = kernel.support();
+  if (reorderEvery > 0 && neighbourBuilds_ % reorderEvery == 0) {
+    store.clearGhosts();
+    halo.wrap(store, domain);
+    search.cellOrder(store.data(store.position()), dimension(), store.realCount(), support, order_);
+    store.permute(order_);
+  }
+  ++neighbourBuilds_;
+  halo.build(store, domain, support);
+  search.build(store.data(store.position()), dimension(), store.realCount(), store.size(), support,
+               neighbours);
+}
+
+void Simulation::evaluateRates() {
+  updateNeighbours();
+  const Index n = store.size();
+  std::memset(store.data(acceleration), 0, sizeof(double) * static_cast<size_t>(n * dimension()));
+  for (const auto& f : integrated) {
+    const int c = store.components(f.rate.id);
+    std::memset(store.data(f.rate), 0, sizeof(double) * static_cast<size_t>(n * c));
+  }
+  for (auto& m : modules) m->kinematics(*this);
+  for (auto& m : modules) m->constitutive(*this);
+  for (auto& m : modules) m->forces(*this);
+  for (auto& m : modules) m->interfaces(*this);
+  for (auto& m : modules) m->constraints(*this);
+}
+
+double Simulation::stableTimeStep() const {
+  double dtMax = std::numeric_limits<double>::infinity();
+  for (const auto& m : modules) dtMax = std::min(dtMax, m->timeStepLimit(*this));
+  return dtMax;
+}
+
+double Simulation::kineticEnergy() const {
+  const double* v = store.data(store.velocity());
+  const double* m = store.data(store.mass());
+  const std::int32_t* mo = store.data(motion);
+  const int d = dimension();
+  double e = 0.0;
+#pragma omp parallel for reduction(+ : e) schedule(static)
+  for (Index i = 0; i < store.realCount(); ++i) {
+    if (mo[i] == kMotionFixed) continue;
+    double v2 = 0.0;
+    for (int a = 0; a < d; ++a) v2 += v[i * d + a] * v[i * d + a];
+    e += 0.5 * m[i] * v2;
+  }
+  return e;
+}
+
+std::vector<std::pair<std::string, double>> Simulation::diagnostics() const {
+  std::vector<std::pair<std::string, double>> c;
+  c.emplace_back("time", time);
+  c.emplace_back("step", static_cast<double>(step));
+  c.emplace_back("dt", dt);
+  c.emplace_back("kinetic_energy", kineticEnergy());
+  for (const auto& m : modules) m->diagnostics(*this, c);
+  return c;
+}
+
+void Simulation::checkFinite() const {
+  const Index n = store.realCount();
+  for (const auto& s : store.fields()) {
+    if (s.type != FieldType::Real) continue;
+    const int id = static_cast<int>(&s - store.fields().data());
+    const double* d = store.data(RealField{id});
+    const Index c = s.components;
+    Index bad = n;
+#pragma omp parallel for reduction(min : bad) schedule(static)
+    for (Index i = 0; i < n; ++i)
+      for (Index q = 0; q < c; ++q)
+        if (!std::isfinite(d[i * c + q])) bad = std::min(bad, i);
+    if (bad < n) {
+      std::ostringstream m;
+      m << "field '" << s.name << "' of particle " << bad << " (id "
+        << store.data(store.id())[bad] << ", material " << store.data(store.material())[bad]
+        << ") is not finite at step " << step << ", time " << time << " s";
+      throw NumericalError(m.str());
+    }
+  }
+}
+
+}  // namespace poresph

@@ -1,0 +1,83 @@
+#pragma once
+// The state of one run and the scheduler of a step (see libcore/module.hpp for the stage order).
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "libcore/domain.hpp"
+#include "libcore/halo.hpp"
+#include "libcore/kernel.hpp"
+#include "libcore/module.hpp"
+#include "libcore/neighbour_search.hpp"
+#include "libcore/particle_store.hpp"
+
+namespace poresph {
+
+/// How a particle moves. Stored in the core int field "motion".
+enum Motion : std::int32_t {
+  kMotionFree = 0,        ///< integrated from its acceleration
+  kMotionFixed = 1,       ///< never moves (walls, clamped layers)
+  kMotionPrescribed = 2,  ///< velocity imposed by a constraint; position follows it
+};
+
+/// A per-particle quantity advanced by the integrator: d(value)/dt = rate. Positions and
+/// velocities are always integrated; modules add their own (density, displacement, energy...).
+struct IntegratedField {
+  RealField value;
+  RealField rate;
+  bool freeOnly = true;  ///< advance only particles with motion == kMotionFree
+};
+
+class Simulation {
+ public:
+  explicit Simulation(int dimension);
+
+  int dimension() const { return store.dimension(); }
+
+  // ---- state ----
+  ParticleStore store;
+  Domain domain;
+  Kernel kernel;
+  double spacing = 0.0;           ///< initial particle spacing dx
+  std::string correction = "none";///< kernel/gradient correction selected by the scene (operators.hpp)
+  double time = 0.0;
+  double dt = 0.0;
+  Index step = 0;
+  RealField acceleration;         ///< dv/dt of each particle, summed by the modules' stages
+  IntField motion;                ///< Motion of each particle
+  std::vector<IntegratedField> integrated;
+  std::vector<std::unique_ptr<Module>> modules;
+  std::vector<Material> materials;
+
+  // ---- neighbours ----
+  NeighbourList neighbours;  ///< of the real particles, over real and ghost particles
+  NeighbourSearch search;
+  PeriodicHalo halo;
+  int reorderEvery = 50;     ///< cell-reorder the store every N neighbour builds (0: never)
+
+  // ---- scheduling ----
+  void addModule(std::unique_ptr<Module> module);
+  Module* module(const std::string& name) const;
+  /// Registers d(value)/dt = rate with the integrator (both fields must exist).
+  void addIntegrated(RealField value, RealField rate, bool freeOnly = true);
+  /// Stage 1: wrap periodic particles, (re)build halos and neighbour lists; reorder the store
+  /// along the cells every reorderEvery calls.
+  void updateNeighbours();
+  /// Stages 1-6: zero accelerations and rates, then every module's kinematics, constitutive,
+  /// forces, interfaces and constraints, in module order within a stage.
+  void evaluateRates();
+  /// Minimum over the modules' limits (and +inf when no module limits the step).
+  double stableTimeStep() const;
+  /// Columns for timeseries.csv: time, step, dt, kinetic energy, then each module's.
+  std::vector<std::pair<std::string, double>> diagnostics() const;
+  /// Throws NumericalError naming the first particle and field that is NaN or Inf.
+  void checkFinite() const;
+  /// Kinetic energy of the real, non-fixed particles: sum 1/2 m v^2.
+  double kineticEnergy() const;
+
+ private:
+  Index neighbourBuilds_ = 0;
+  std::vector<Index> order_;
+};
+
+}  // namespace poresph
