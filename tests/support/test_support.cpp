@@ -1,1 +1,0 @@
-// Test helpers shared by the unit, validation and extreme tests.
