@@ -1,0 +1,13 @@
+#!/usr/bin/env bash
+# One command on a fresh Debian 12 machine: installs the dependencies, builds Release and runs
+# the whole default test suite (labels unit, validation, extreme). Then regenerates
+# build/validation.md from the validation records (docs/validation.md is refreshed with
+# `python3 scripts/make_validation_table.py build`).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/install-deps.sh
+bash scripts/build.sh
+BUILD_DIR=${BUILD_DIR:-build}
+cd "$BUILD_DIR"
+ctest --output-on-failure -j "${JOBS:-$(nproc)}" --timeout 600
+python3 ../scripts/make_validation_table.py . validation.md || true
