@@ -1,0 +1,21 @@
+#pragma once
+// HDF5 checkpoints (docs/output.md): every field flagged kFieldCheckpoint of the real particles
+// (dataset /fields/<name>, shape [n, components], double or int32), plus attributes time, step,
+// dt, dimension, particle count, and the domain (lo, hi, periodic).
+#include <string>
+
+namespace poresph {
+
+class Simulation;
+
+/// Writes sim's restart state to `path` (HDF5, overwritten). Throws InputError if the file
+/// cannot be created.
+void writeCheckpoint(const Simulation& sim, const std::string& path);
+
+/// Restores a checkpoint into `sim`, whose modules were configured as for the run that wrote it
+/// (the same checkpoint fields registered). Replaces the particles (ghosts cleared), time, step,
+/// dt and domain. Throws InputError naming the file and the field when a field is missing on
+/// either side, or its type or number of components differs, or the dimension differs.
+void readCheckpoint(Simulation& sim, const std::string& path);
+
+}  // namespace poresph
