@@ -172,28 +172,35 @@ void ParticleStore::permute(const std::vector<Index>& newToOld) {
   if (nGhost_ != 0) throw std::logic_error("permute: remove ghosts first");
   if (static_cast<Index>(newToOld.size()) != nReal_)
     throw std::logic_error("permute: permutation size differs from the particle count");
+  // Gather into a scratch buffer, then copy back: the fields keep their memory (reserved
+  // capacity and data() pointers survive a reorder, so a time loop does not allocate).
   for (size_t k = 0; k < specs_.size(); ++k) {
     const Index c = specs_[k].components;
+    const size_t len = static_cast<size_t>(nReal_) * static_cast<size_t>(c);
     if (specs_[k].type == FieldType::Real) {
-      auto& d = real_[static_cast<size_t>(slot_[k])];
-      scratchReal_.resize(d.size());
+      double* d = real_[static_cast<size_t>(slot_[k])].data();
+      if (scratchReal_.size() < len) scratchReal_.resize(len);
+      double* tmp = scratchReal_.data();
 #pragma omp parallel for schedule(static)
       for (Index i = 0; i < nReal_; ++i)
-        for (Index q = 0; q < c; ++q) scratchReal_[i * c + q] = d[newToOld[i] * c + q];
-      d.swap(scratchReal_);
+        for (Index q = 0; q < c; ++q) tmp[i * c + q] = d[newToOld[i] * c + q];
+      std::copy(tmp, tmp + len, d);
     } else {
-      auto& d = int_[static_cast<size_t>(slot_[k])];
-      scratchInt_.resize(d.size());
+      std::int32_t* d = int_[static_cast<size_t>(slot_[k])].data();
+      if (scratchInt_.size() < len) scratchInt_.resize(len);
+      std::int32_t* tmp = scratchInt_.data();
 #pragma omp parallel for schedule(static)
       for (Index i = 0; i < nReal_; ++i)
-        for (Index q = 0; q < c; ++q) scratchInt_[i * c + q] = d[newToOld[i] * c + q];
-      d.swap(scratchInt_);
+        for (Index q = 0; q < c; ++q) tmp[i * c + q] = d[newToOld[i] * c + q];
+      std::copy(tmp, tmp + len, d);
     }
   }
 }
 
 void ParticleStore::compact(const std::vector<char>& keep) {
   if (nGhost_ != 0) throw std::logic_error("compact: remove ghosts first");
+  if (static_cast<Index>(keep.size()) != nReal_)
+    throw std::logic_error("compact: mask size differs from the particle count");
   std::vector<Index> order;
   order.reserve(static_cast<size_t>(nReal_));
   for (Index i = 0; i < nReal_; ++i)
