@@ -33,6 +33,7 @@
 // The state is computed for any positions (current or reference configuration), any volumes
 // V_b = m_b / rho_b and any neighbour list, so that e.g. the elastic solid can build its
 // reference-configuration gradients grad~_0 W~_ab,0 (Eqs. 2.67-2.68) once and keep them.
+#include <Eigen/LU>  // determinant() and inverse() of Mat<D> for callers of matrixOf()
 #include <string>
 #include <vector>
 
