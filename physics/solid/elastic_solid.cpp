@@ -1,0 +1,980 @@
+// Elastic solid module: see elastic_solid.hpp and docs/solid.md. Equation numbers are those of
+// the thesis (/work/shared/seeds/002_*.txt), Chapter 2.4 unless stated otherwise.
+#include "physics/solid/elastic_solid.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <sstream>
+
+#include "libcore/phases.hpp"
+#include "libcore/simulation.hpp"
+#include "libcore/corrections.hpp"
+
+namespace poresph::solid {
+
+namespace {
+
+constexpr unsigned kInternal = kFieldCheckpoint;  // state that is neither output nor ghosted
+
+std::string fmt(double v) {
+  std::ostringstream s;
+  s.precision(6);
+  s << v;
+  return s.str();
+}
+
+double ramp(double t, double rampTime) {
+  if (rampTime <= 0.0) return 1.0;
+  return std::min(1.0, std::max(0.0, t / rampTime));
+}
+double rampRate(double t, double rampTime) {
+  if (rampTime <= 0.0) return 0.0;
+  return (t >= 0.0 && t < rampTime) ? 1.0 / rampTime : 0.0;
+}
+
+// Isotropic law sigma = lambda tr(eps) 1 + 2 mu eps (Eqs. 2.74, 2.84 in Lame form: k = lambda +
+// 2 mu / 3 in 3D; in 1D and plane stress lambda is the reduced one, see lameParameters()).
+template <int D>
+Mat<D> isotropicLaw(const Mat<D>& eps, double lambda, double mu) {
+  return lambda * eps.trace() * Mat<D>::Identity() + 2.0 * mu * eps;
+}
+
+}  // namespace
+
+void lameParameters(double E, double nu, int dim, Plane plane, double& lambda, double& mu) {
+  if (dim == 1) {  // uniaxial stress: sigma = E eps
+    lambda = 0.0;
+    mu = 0.5 * E;
+    return;
+  }
+  mu = E / (2.0 * (1.0 + nu));
+  lambda = E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
+  if (dim == 2 && plane == Plane::Stress) lambda = 2.0 * lambda * mu / (lambda + 2.0 * mu);
+}
+
+// ------------------------------------------------------------------------------------------------
+// configure: materials, boundary conditions, fields
+// ------------------------------------------------------------------------------------------------
+void ElasticSolidModule::configure(Simulation& sim, const std::vector<const Material*>& materials,
+                                   const ParameterSet* section) {
+  const int dim = sim.dimension();
+  if (materials.empty()) throw InputError("solid module: no material with model 'elastic'");
+  mats_.clear();
+  slot_.assign(std::max<size_t>(sim.materials.size(), 1), -1);
+  bool first = true;
+  for (const Material* m : materials) {
+    const ParameterSet& p = m->parameters;
+    ElasticMaterial e;
+    e.materialId = m->id;
+    e.name = m->name;
+    e.density = p.real("density", Range::positive());
+    e.young = p.real("young_modulus", Range::positive());
+    const Range nuRange{-1.0, 0.5, true, true};
+    e.poisson = dim == 1 ? p.real("poisson_ratio", 0.0, nuRange) : p.real("poisson_ratio", nuRange);
+    const std::string f = p.choice("formulation", "total_lagrangian",
+                                   {"small_strain_stress", "small_strain_displacement",
+                                    "total_lagrangian"});
+    const Formulation form = f == "small_strain_stress" ? Formulation::SmallStrainStress
+                             : f == "small_strain_displacement"
+                                 ? Formulation::SmallStrainDisplacement
+                                 : Formulation::TotalLagrangian;
+    Plane pl = Plane::Strain;
+    if (dim == 2) {
+      pl = p.choice("plane", "strain", {"strain", "stress"}) == "stress" ? Plane::Stress
+                                                                         : Plane::Strain;
+    } else if (p.has("plane")) {
+      p.fail("plane", "plane strain/stress applies to 2D runs only (this run is " +
+                          std::to_string(dim) + "D)");
+    }
+    if (first) {
+      formulation_ = form;
+      plane_ = pl;
+    } else if (form != formulation_ || pl != plane_) {
+      p.fail("formulation", "all elastic materials of a run must use the same formulation and "
+                            "plane assumption");
+    }
+    first = false;
+    if (p.has("artificial_viscosity")) {
+      const ParameterSet av = p.section("artificial_viscosity");
+      e.avAlpha = av.real("alpha", 0.0, Range::nonNegative());
+      e.avBeta = av.real("beta", 0.0, Range::nonNegative());
+      av.finish();
+    }
+    e.xsph = p.real("xsph_epsilon", 0.0, Range::closed(0.0, 1.0));
+    e.damping = p.real("damping", 0.0, Range::nonNegative());
+    p.finish();
+    lameParameters(e.young, e.poisson, dim, pl, e.lambda, e.mu);
+    e.waveSpeed = std::sqrt((e.lambda + 2.0 * e.mu) / e.density);
+    if (static_cast<size_t>(m->id) >= slot_.size()) slot_.resize(static_cast<size_t>(m->id) + 1, -1);
+    slot_[static_cast<size_t>(m->id)] = static_cast<int>(mats_.size());
+    mats_.push_back(e);
+  }
+
+  boundaries_.clear();
+  anyMirror_ = false;
+  if (section) {
+    if (section->has("boundaries")) {
+      int k = 0;
+      for (const ParameterSet& b : section->sectionList("boundaries")) {
+        Boundary bc;
+        const std::string t = b.choice(
+            "type", {"clamped", "velocity", "displacement", "traction", "pressure"});
+        bc.type = t == "clamped" ? BoundaryType::Clamped
+                  : t == "velocity" ? BoundaryType::Velocity
+                  : t == "displacement" ? BoundaryType::Displacement
+                  : t == "traction" ? BoundaryType::Traction
+                                    : BoundaryType::Pressure;
+        bc.label = b.string("name", "boundary " + std::to_string(k));
+        if (b.has("box")) {
+          const ParameterSet box = b.section("box");
+          const auto lo = box.reals("min", static_cast<size_t>(dim));
+          const auto hi = box.reals("max", static_cast<size_t>(dim));
+          box.finish();
+          bc.hasBox = true;
+          for (int a = 0; a < dim; ++a) {
+            bc.boxMin[static_cast<size_t>(a)] = lo[static_cast<size_t>(a)];
+            bc.boxMax[static_cast<size_t>(a)] = hi[static_cast<size_t>(a)];
+          }
+        }
+        if (b.has("material")) {
+          const std::string mn = b.string("material");
+          for (const auto& m : sim.materials)
+            if (m.name == mn) bc.material = m.id;
+          if (bc.material < 0) b.fail("material", "no material of that name in the scene");
+        }
+        if (!bc.hasBox && bc.material < 0)
+          b.fail("type", "a boundary needs a 'box' {min, max} and/or a 'material' to select its "
+                         "particles");
+        auto vec = [&](const std::string& key) {
+          const auto v = b.reals(key, static_cast<size_t>(dim));
+          for (int a = 0; a < dim; ++a) bc.value[static_cast<size_t>(a)] = v[static_cast<size_t>(a)];
+        };
+        if (bc.type == BoundaryType::Velocity) vec("velocity");
+        if (bc.type == BoundaryType::Displacement) vec("displacement");
+        if (bc.type == BoundaryType::Traction) vec("traction");
+        if (bc.type == BoundaryType::Pressure) bc.pressure = b.real("pressure");
+        bc.rampTime = b.real("ramp_time", 0.0, Range::nonNegative());
+        if (bc.type == BoundaryType::Displacement && !(bc.rampTime > 0.0))
+          b.fail("ramp_time", "an imposed displacement needs ramp_time > 0 (the velocity is "
+                              "displacement / ramp_time during the ramp)");
+        if (b.has("area")) bc.area = b.real("area", Range::positive());
+        if (b.has("mirror")) {
+          if (bc.type != BoundaryType::Clamped)
+            b.fail("mirror", "a mirror layer is a clamped boundary (type: clamped)");
+          const ParameterSet mp = b.section("mirror");
+          const auto pt = mp.reals("point", static_cast<size_t>(dim));
+          const auto nr = mp.reals("normal", static_cast<size_t>(dim));
+          mp.finish();
+          double nn = 0.0;
+          for (int a = 0; a < dim; ++a) nn += nr[static_cast<size_t>(a)] * nr[static_cast<size_t>(a)];
+          if (!(nn > 0.0)) b.fail("mirror", "the mirror normal must not be zero");
+          bc.mirror = true;
+          for (int a = 0; a < dim; ++a) {
+            bc.mirrorPoint[static_cast<size_t>(a)] = pt[static_cast<size_t>(a)];
+            bc.mirrorNormal[static_cast<size_t>(a)] = nr[static_cast<size_t>(a)] / std::sqrt(nn);
+          }
+          anyMirror_ = true;
+        }
+        b.finish();
+        boundaries_.push_back(bc);
+        ++k;
+      }
+    }
+    section->finish();
+  }
+
+  // ---- fields ----
+  ParticleStore& s = sim.store;
+  const std::string me = "solid";
+  refPos_ = s.addReal("reference_position", dim, kFieldDefault, me);
+  disp_ = s.addReal("displacement", dim, kFieldOutput | kFieldToGhosts, me);
+  strain_ = s.addReal("strain", dim * dim, kFieldOutput, me);
+  stress_ = s.addReal("stress", dim * dim, kFieldDefault, me);
+  energy_ = s.addReal("internal_energy", 1, kFieldOutput | kFieldCheckpoint, me);
+  energyRate_ = s.addReal("internal_energy_rate", 1, kFieldNone, me);
+  work_ = s.addReal("solid_work", 3, kFieldCheckpoint, me);
+  workRate_ = s.addReal("solid_work_rate", 3, kFieldNone, me);
+  bc_ = s.addInt("solid_boundary", 1, kFieldOutput | kFieldCheckpoint, me);
+  bcForce_ = s.addReal("solid_boundary_force", dim, kInternal, me);
+  if (anyMirror_) mirror_ = s.addInt("solid_mirror_source", 1, kInternal, me);
+  if (formulation_ == Formulation::TotalLagrangian) {
+    if (sim.domain.anyPeriodic())
+      throw InputError("solid module: the total_lagrangian formulation does not support periodic "
+                       "domains (its reference family is not carried across periodic images)");
+    defGrad_ = s.addReal("deformation_gradient", dim * dim, kFieldDefault, me);
+    piola_ = s.addReal("first_piola", dim * dim, kFieldNone, me);
+  } else {
+    densityRate_ = s.addReal("density_rate", 1, kFieldNone, me);
+    corrFields_ = registerCorrectionFields(s, "solid_correction", me);
+    sim.addIntegrated(s.density(), densityRate_, false);
+  }
+  sim.addIntegrated(energy_, energyRate_, false);
+  sim.addIntegrated(work_, workRate_, false);
+}
+
+// ------------------------------------------------------------------------------------------------
+// initialise: reference state, boundary sets, reference family (TL)
+// ------------------------------------------------------------------------------------------------
+void ElasticSolidModule::initialise(Simulation& sim) {
+  dispatchDimension(sim.dimension(), [&](auto d) { initialiseDim<decltype(d)::value>(sim); });
+  initialised_ = true;
+}
+
+template <int D>
+void ElasticSolidModule::initialiseDim(Simulation& sim) {
+  ParticleStore& s = sim.store;
+  const Index n = s.realCount();
+  if (s.ghostCount() != 0) s.clearGhosts();
+  const std::int32_t* mat = s.data(s.material());
+  std::int32_t* phase = s.data(s.phase());
+  std::int32_t* motion = s.data(sim.motion);
+  double* m = s.data(s.mass());
+  double* rho = s.data(s.density());
+  double* v = s.data(s.velocity());
+  const double* x = s.data(s.position());
+  double* X = s.data(refPos_);
+  std::int32_t* bc = s.data(bc_);
+  const double volumeUnit = std::pow(sim.spacing, D);
+
+  std::vector<Index> mine;
+  for (Index i = 0; i < n; ++i) {
+    const int k = slotOf(mat[i]);
+    if (k < 0) continue;
+    mine.push_back(i);
+    const ElasticMaterial& e = mats_[static_cast<size_t>(k)];
+    phase[i] = kPhaseSolid;
+    if (!(rho[i] > 0.0)) rho[i] = e.density;
+    if (!(m[i] > 0.0)) {
+      if (!(sim.spacing > 0.0))
+        throw InputError("solid module: particle masses are zero and the run has no spacing to "
+                         "derive them from (set Simulation::spacing or the masses)");
+      m[i] = e.density * volumeUnit;
+    }
+    for (int a = 0; a < D; ++a) X[i * D + a] = x[i * D + a];
+  }
+
+  // Boundary sets, selected in the reference configuration; the last matching boundary wins.
+  for (Index i : mine) {
+    bc[i] = 0;
+    for (size_t b = 0; b < boundaries_.size(); ++b) {
+      const Boundary& B = boundaries_[b];
+      bool in = true;
+      if (B.material >= 0 && mat[i] != B.material) in = false;
+      if (B.hasBox)
+        for (int a = 0; a < D; ++a)
+          if (X[i * D + a] < B.boxMin[static_cast<size_t>(a)] ||
+              X[i * D + a] > B.boxMax[static_cast<size_t>(a)])
+            in = false;
+      if (in) bc[i] = static_cast<std::int32_t>(b + 1);
+    }
+    if (bc[i] > 0) {
+      const Boundary& B = boundaries_[static_cast<size_t>(bc[i] - 1)];
+      if (B.type == BoundaryType::Clamped) {
+        motion[i] = kMotionFixed;
+        for (int a = 0; a < D; ++a) v[i * D + a] = 0.0;
+      } else if (B.type == BoundaryType::Velocity || B.type == BoundaryType::Displacement) {
+        motion[i] = kMotionPrescribed;
+      }
+    }
+  }
+  for (size_t b = 0; b < boundaries_.size(); ++b) {
+    Index count = 0;
+    for (Index i : mine) count += bc[i] == static_cast<std::int32_t>(b + 1);
+    if (count == 0)
+      throw InputError("solid module: boundary '" + boundaries_[b].label +
+                       "' selects no solid particle (check its box/material)");
+  }
+
+  // Mirror layers: the source of each layer particle is the solid particle (not in a boundary
+  // set) nearest to its reflection; it must coincide with it (the layer mirrors the body).
+  if (anyMirror_) {
+    std::int32_t* src = s.data(mirror_);
+    const std::int32_t* ids = s.data(s.id());
+    for (Index i : mine) {
+      src[i] = 0;
+      if (bc[i] == 0) continue;
+      const Boundary& B = boundaries_[static_cast<size_t>(bc[i] - 1)];
+      if (!B.mirror) continue;
+      Vec<D> p, nrm, Xi = Eigen::Map<const Vec<D>>(X + i * D);
+      for (int a = 0; a < D; ++a) {
+        p[a] = B.mirrorPoint[static_cast<size_t>(a)];
+        nrm[a] = B.mirrorNormal[static_cast<size_t>(a)];
+      }
+      const Vec<D> Xr = Xi - 2.0 * (Xi - p).dot(nrm) * nrm;
+      double best = std::numeric_limits<double>::infinity();
+      Index arg = -1;
+      for (Index j : mine) {
+        if (bc[j] != 0) continue;
+        const double d2 = (Eigen::Map<const Vec<D>>(X + j * D) - Xr).squaredNorm();
+        if (d2 < best) { best = d2; arg = j; }
+      }
+      if (arg < 0 || std::sqrt(best) > 0.1 * sim.spacing) {
+        std::ostringstream msg;
+        msg << "solid module: mirror boundary '" << B.label << "': the layer particle at "
+            << Xi.transpose() << " has no solid particle at its mirror image " << Xr.transpose()
+            << " (the layer must mirror the body's particle arrangement across the plane)";
+        throw InputError(msg.str());
+      }
+      src[i] = ids[arg] + 1;
+    }
+    // A layer thinner than twice the support leaves the layer particles next to the body with a
+    // truncated support: the images are then not exact and energy is not conserved.
+    for (size_t b = 0; b < boundaries_.size(); ++b) {
+      const Boundary& B = boundaries_[b];
+      if (!B.mirror) continue;
+      double depth = 0.0;
+      for (Index i : mine) {
+        if (bc[i] != static_cast<std::int32_t>(b + 1)) continue;
+        double d = 0.0;
+        for (int a = 0; a < D; ++a)
+          d += (B.mirrorPoint[static_cast<size_t>(a)] - X[i * D + a]) * B.mirrorNormal[static_cast<size_t>(a)];
+        depth = std::max(depth, std::abs(d));
+      }
+      if (depth < 2.0 * sim.kernel.support() - sim.spacing)
+        throw InputError("solid module: mirror boundary '" + B.label + "' is " + fmt(depth) +
+                         " m deep; it must be at least twice the kernel support (" +
+                         fmt(2.0 * sim.kernel.support()) + " m) deep");
+    }
+  }
+
+  // Reference neighbours (among the solid particles only).
+  const Index nm = static_cast<Index>(mine.size());
+  std::vector<double> Xm(static_cast<size_t>(nm * D));
+  for (Index k = 0; k < nm; ++k)
+    for (int a = 0; a < D; ++a) Xm[static_cast<size_t>(k * D + a)] = X[mine[static_cast<size_t>(k)] * D + a];
+  NeighbourSearch search;
+  NeighbourList ref;
+  if (nm > 0) search.build(Xm.data(), D, nm, nm, sim.kernel.support(), ref);
+  auto volume = [&](Index i) { return m[i] / mats_[static_cast<size_t>(slotOf(mat[i]))].density; };
+  const Kernel& W = sim.kernel;
+
+  // Imposed traction / pressure: nominal force per particle (reference configuration). The
+  // outward normal of a pressure boundary is -grad(sum_b V_b W_ab) (the Shepard sum decreases
+  // outwards).
+  double* f = s.data(bcForce_);
+  std::memset(f, 0, sizeof(double) * static_cast<size_t>(n * D));
+  for (Index k = 0; k < nm; ++k) {
+    const Index i = mine[static_cast<size_t>(k)];
+    if (bc[i] == 0) continue;
+    const Boundary& B = boundaries_[static_cast<size_t>(bc[i] - 1)];
+    if (B.type != BoundaryType::Traction && B.type != BoundaryType::Pressure) continue;
+    const double area = B.area > 0.0 ? B.area : std::pow(sim.spacing, D - 1);
+    Vec<D> force;
+    if (B.type == BoundaryType::Traction) {
+      for (int a = 0; a < D; ++a) force[a] = B.value[static_cast<size_t>(a)] * area;
+    } else {
+      Vec<D> g = Vec<D>::Zero();
+      const Vec<D> Xi = Eigen::Map<const Vec<D>>(X + i * D);
+      for (auto p = ref.offset[static_cast<size_t>(k)]; p < ref.offset[static_cast<size_t>(k) + 1]; ++p) {
+        const Index j = mine[ref.index[static_cast<size_t>(p)]];
+        const Vec<D> r = Xi - Eigen::Map<const Vec<D>>(X + j * D);
+        g += volume(j) * W.gradient<D>(r);
+      }
+      if (!(g.norm() > 0.0))
+        throw InputError("solid module: pressure boundary '" + B.label +
+                         "' has a particle with no outward normal (interior particle?)");
+      force = B.pressure * area * g.normalized();  // -p A n_out, n_out = -g/|g|
+    }
+    for (int a = 0; a < D; ++a) f[i * D + a] = force[a];
+  }
+
+  if (formulation_ != Formulation::TotalLagrangian) return;
+
+  // ---- Total-Lagrangian reference family with corrected gradients (Eqs. 2.67-2.68) ----
+  int cap = 1;
+  for (Index k = 0; k < nm; ++k)
+    cap = std::max<int>(cap, static_cast<int>(ref.offset[static_cast<size_t>(k) + 1] -
+                                             ref.offset[static_cast<size_t>(k)]));
+  if (familyCapacity_ != 0 && familyCapacity_ != cap)
+    throw std::logic_error("solid module: initialise() called twice with different families");
+  familyCapacity_ = cap;
+  family_ = s.addInt("solid_family", cap, kInternal, "solid");
+  familyCount_ = s.addInt("solid_family_count", 1, kInternal, "solid");
+  famGrad_ = s.addReal("solid_family_gradient", cap * D, kInternal, "solid");
+  famRevGrad_ = s.addReal("solid_family_reverse_gradient", cap * D, kInternal, "solid");
+  std::int32_t* fam = s.data(family_);
+  std::int32_t* famN = s.data(familyCount_);
+  double* G = s.data(famGrad_);
+  double* GR = s.data(famRevGrad_);
+  const std::int32_t* ids = s.data(s.id());
+  std::memset(famN, 0, sizeof(std::int32_t) * static_cast<size_t>(n));
+  // Corrected reference gradients g_ab = grad~_{a,0} W~_{ab,0} (mixed correction 2.63b, computed
+  // by libcore/corrections on the reference positions of the solid particles).
+  std::vector<double> Vm(static_cast<size_t>(nm));
+  for (Index k = 0; k < nm; ++k) Vm[static_cast<size_t>(k)] = volume(mine[static_cast<size_t>(k)]);
+  CorrectionBuffer buffer;
+  buffer.resize(D, nm);
+  if (nm > 0)
+    computeCorrection<D>(Correction::Mixed, W, Xm.data(), Vm.data(), nm, ref, buffer.arrays());
+  const CorrectionView view = buffer.view(Correction::Mixed, W);
+  std::vector<std::vector<std::pair<Index, Vec<D>>>> pairs(static_cast<size_t>(nm));
+#pragma omp parallel for schedule(static)
+  for (Index k = 0; k < nm; ++k) {
+    const Vec<D> Xi = Eigen::Map<const Vec<D>>(Xm.data() + k * D);
+    const auto b0 = ref.offset[static_cast<size_t>(k)], b1 = ref.offset[static_cast<size_t>(k) + 1];
+    auto& list = pairs[static_cast<size_t>(k)];
+    list.reserve(static_cast<size_t>(b1 - b0));
+    for (auto p = b0; p < b1; ++p) {
+      const Index kj = ref.index[static_cast<size_t>(p)];
+      const Vec<D> r = Xi - Eigen::Map<const Vec<D>>(Xm.data() + kj * D);
+      list.emplace_back(kj, view.gradient<D>(k, W.gradient<D>(r), W.value(r.norm())));
+    }
+    std::sort(list.begin(), list.end(),
+              [](const auto& a, const auto& b) { return a.first < b.first; });
+  }
+#pragma omp parallel for schedule(static)
+  for (Index k = 0; k < nm; ++k) {
+    const Index i = mine[static_cast<size_t>(k)];
+    const auto& list = pairs[static_cast<size_t>(k)];
+    famN[i] = static_cast<std::int32_t>(list.size());
+    for (size_t q = 0; q < list.size(); ++q) {
+      const Index kj = list[q].first;
+      fam[i * cap + static_cast<Index>(q)] = ids[mine[static_cast<size_t>(kj)]];
+      for (int a = 0; a < D; ++a) G[(i * cap + static_cast<Index>(q)) * D + a] = list[q].second[a];
+      // reverse gradient g_ba, from b's list (families are symmetric: same radius)
+      const auto& other = pairs[static_cast<size_t>(kj)];
+      auto it = std::lower_bound(other.begin(), other.end(), k,
+                                 [](const auto& e, Index key) { return e.first < key; });
+      if (it == other.end() || it->first != k)
+        throw std::logic_error("solid module: reference family is not symmetric");
+      for (int a = 0; a < D; ++a) GR[(i * cap + static_cast<Index>(q)) * D + a] = it->second[a];
+    }
+  }
+  // F = 1 at the start
+  double* F = s.data(defGrad_);
+  for (Index i : mine) Eigen::Map<Mat<D>>(F + i * D * D).setIdentity();
+}
+
+void ElasticSolidModule::rebuildIdMap(const Simulation& sim) {
+  const ParticleStore& s = sim.store;
+  const Index n = s.realCount();
+  const std::int32_t* ids = s.data(s.id());
+  std::int32_t maxId = 0;
+  for (Index i = 0; i < n; ++i) maxId = std::max(maxId, ids[i]);
+  if (idToIndex_.size() < static_cast<size_t>(maxId) + 1) idToIndex_.resize(static_cast<size_t>(maxId) + 1);
+  std::fill(idToIndex_.begin(), idToIndex_.end(), Index(-1));
+#pragma omp parallel for schedule(static)
+  for (Index i = 0; i < n; ++i) idToIndex_[static_cast<size_t>(ids[i])] = i;
+}
+
+template <int D>
+void ElasticSolidModule::applyMirrors(Simulation& sim) {
+  ParticleStore& s = sim.store;
+  const Index n = s.realCount();
+  const std::int32_t* src = s.data(mirror_);
+  double* u = s.data(disp_);
+  double* v = s.data(s.velocity());
+  double* x = s.data(s.position());
+  const double* X = s.data(refPos_);
+#pragma omp parallel for schedule(static)
+  for (Index i = 0; i < n; ++i) {
+    if (src[i] <= 0) continue;
+    const Index j = idToIndex_[static_cast<size_t>(src[i] - 1)];
+    for (int a = 0; a < D; ++a) {  // odd reflection: u(layer) = -u(image), v likewise
+      u[i * D + a] = -u[j * D + a];
+      v[i * D + a] = -v[j * D + a];
+      x[i * D + a] = X[i * D + a] + u[i * D + a];
+    }
+  }
+}
+
+// ------------------------------------------------------------------------------------------------
+// kinematics: displacements, F (TL) or correction data and strain (small strain)
+// ------------------------------------------------------------------------------------------------
+void ElasticSolidModule::kinematics(Simulation& sim) {
+  if (!initialised_) throw std::logic_error("solid module: initialise() was not called");
+  if (sim.dt > 0.0) {
+    const double limit = elasticTimeStepLimit(sim);
+    if (sim.dt > limit * (1.0 + 1e-12))
+      throw InputError("solid module: time step dt = " + fmt(sim.dt) +
+                       " s exceeds the elastic CFL limit h sqrt(rho/(lambda + 2 mu)) = " +
+                       fmt(limit) + " s (thesis Eq. 2.50, h = " + fmt(sim.kernel.h()) +
+                       " m); reduce dt or let the run choose it (adaptive stepping)");
+  }
+  dispatchDimension(sim.dimension(), [&](auto d) { kinematicsDim<decltype(d)::value>(sim); });
+}
+
+template <int D>
+void ElasticSolidModule::kinematicsDim(Simulation& sim) {
+  ParticleStore& s = sim.store;
+  const Index n = s.realCount();
+  const std::int32_t* mat = s.data(s.material());
+  const double* x = s.data(s.position());
+  const double* X = s.data(refPos_);
+  double* u = s.data(disp_);
+#pragma omp parallel for schedule(static)
+  for (Index i = 0; i < n; ++i) {
+    if (slotOf(mat[i]) < 0) continue;
+    for (int a = 0; a < D; ++a) u[i * D + a] = x[i * D + a] - X[i * D + a];
+  }
+  if (anyMirror_ || formulation_ == Formulation::TotalLagrangian) rebuildIdMap(sim);
+  if (anyMirror_) applyMirrors<D>(sim);
+  if (s.ghostCount() > 0) s.refreshGhosts(disp_);
+
+  if (formulation_ == Formulation::TotalLagrangian) {
+    const std::int32_t* fam = s.data(family_);
+    const std::int32_t* famN = s.data(familyCount_);
+    const double* G = s.data(famGrad_);
+    double* F = s.data(defGrad_);
+    const double* m = s.data(s.mass());
+    const int cap = familyCapacity_;
+    Index bad = n;
+#pragma omp parallel for schedule(static) reduction(min : bad)
+    for (Index i = 0; i < n; ++i) {
+      if (slotOf(mat[i]) < 0) continue;
+      const Vec<D> ui = Eigen::Map<const Vec<D>>(u + i * D);
+      Mat<D> Fi = Mat<D>::Identity();
+      for (int q = 0; q < famN[i]; ++q) {
+        const Index j = idToIndex_[static_cast<size_t>(fam[i * cap + q])];
+        const double Vj = m[j] / mats_[static_cast<size_t>(slotOf(mat[j]))].density;
+        const Vec<D> g = Eigen::Map<const Vec<D>>(G + (i * cap + q) * D);
+        Fi.noalias() += Vj * (Eigen::Map<const Vec<D>>(u + j * D) - ui) * g.transpose();  // 2.67
+      }
+      Eigen::Map<Mat<D>>(F + i * D * D) = Fi;
+      if (!(Fi.determinant() > 0.0)) bad = std::min(bad, i);
+    }
+    if (bad < n) {
+      const Mat<D> Fb = Eigen::Map<const Mat<D>>(F + bad * D * D);
+      throw NumericalError("solid module: deformation gradient of particle " + std::to_string(bad) +
+                           " (id " + std::to_string(s.data(s.id())[bad]) + ") has J = det F = " +
+                           fmt(Fb.determinant()) + " <= 0 at step " + std::to_string(sim.step) +
+                           ", time " + fmt(sim.time) + " s: the solid inverted (time step too "
+                           "large or the loading too violent)");
+    }
+    return;
+  }
+
+  // ---- small strain: solid-solid neighbours of the current configuration, their mixed
+  // correction (2.63b, libcore/corrections), then strain (2.82) and the continuity rate (2.85) ----
+  const double* m = s.data(s.mass());
+  const double* rho = s.data(s.density());
+  double* eps = s.data(strain_);
+  double* rhoRate = s.data(densityRate_);
+  const double* v = s.data(s.velocity());
+  const NeighbourList& nl = sim.neighbours;
+  const Kernel& W = sim.kernel;
+  const std::int32_t* phase = s.data(s.phase());
+  auto isMine = [&](Index j) { return phase[j] == kPhaseSolid && slotOf(mat[j]) >= 0; };
+  // filtered list (memory kept between steps): rows of every real particle, solid pairs only
+  solidNeighbours_.offset.resize(static_cast<size_t>(n) + 1);
+  solidNeighbours_.index.resize(nl.index.size());
+  {
+    std::int64_t c = 0;
+    for (Index i = 0; i < n; ++i) {
+      solidNeighbours_.offset[static_cast<size_t>(i)] = c;
+      if (!isMine(i)) continue;
+      for (auto p = nl.offset[static_cast<size_t>(i)]; p < nl.offset[static_cast<size_t>(i) + 1]; ++p)
+        if (isMine(nl.index[static_cast<size_t>(p)]))
+          solidNeighbours_.index[static_cast<size_t>(c++)] = nl.index[static_cast<size_t>(p)];
+    }
+    solidNeighbours_.offset[static_cast<size_t>(n)] = c;
+  }
+  const NeighbourList& sn = solidNeighbours_;
+  computeVolumes(s, volume_);
+  computeCorrection<D>(Correction::Mixed, W, x, volume_.data(), n, sn, corrFields_.arrays(s));
+  if (s.ghostCount() > 0) {
+    s.refreshGhosts(corrFields_.matrix);
+    s.refreshGhosts(corrFields_.shepardSum);
+    s.refreshGhosts(corrFields_.shepardGradient);
+  }
+  const CorrectionView view = corrFields_.view(s, Correction::Mixed, W);
+#pragma omp parallel for schedule(static)
+  for (Index i = 0; i < n; ++i) {
+    if (!isMine(i)) continue;
+    const Vec<D> xi = Eigen::Map<const Vec<D>>(x + i * D);
+    Mat<D> gu = Mat<D>::Zero(), gv = Mat<D>::Zero();
+    const Vec<D> ui = Eigen::Map<const Vec<D>>(u + i * D);
+    const Vec<D> vi = Eigen::Map<const Vec<D>>(v + i * D);
+    for (auto p = sn.offset[static_cast<size_t>(i)]; p < sn.offset[static_cast<size_t>(i) + 1]; ++p) {
+      const Index j = sn.index[static_cast<size_t>(p)];
+      const Vec<D> rij = xi - Eigen::Map<const Vec<D>>(x + j * D);
+      const Vec<D> g = view.gradient<D>(i, W.gradient<D>(rij), W.value(rij.norm()));
+      const double Vj = m[j] / rho[j];
+      gu.noalias() += Vj * (Eigen::Map<const Vec<D>>(u + j * D) - ui) * g.transpose();  // 2.82
+      gv.noalias() += Vj * (Eigen::Map<const Vec<D>>(v + j * D) - vi) * g.transpose();  // 2.83
+    }
+    Eigen::Map<Mat<D>>(eps + i * D * D) = 0.5 * (gu + gu.transpose());
+    rhoRate[i] = -rho[i] * gv.trace();  // continuity, Eq. 2.85 (first line)
+  }
+}
+
+// ------------------------------------------------------------------------------------------------
+// constitutive: SVK (2.71-2.74, 2.78) or the isotropic small-strain law (2.84)
+// ------------------------------------------------------------------------------------------------
+void ElasticSolidModule::constitutive(Simulation& sim) {
+  dispatchDimension(sim.dimension(), [&](auto d) { constitutiveDim<decltype(d)::value>(sim); });
+}
+
+template <int D>
+void ElasticSolidModule::constitutiveDim(Simulation& sim) {
+  ParticleStore& s = sim.store;
+  const Index n = s.realCount();
+  const std::int32_t* mat = s.data(s.material());
+  double* sig = s.data(stress_);
+  double* eps = s.data(strain_);
+  if (formulation_ == Formulation::TotalLagrangian) {
+    const double* F = s.data(defGrad_);
+    double* P = s.data(piola_);
+    double* rho = s.data(s.density());
+#pragma omp parallel for schedule(static)
+    for (Index i = 0; i < n; ++i) {
+      const int k = slotOf(mat[i]);
+      if (k < 0) continue;
+      const ElasticMaterial& e = mats_[static_cast<size_t>(k)];
+      const Mat<D> Fi = Eigen::Map<const Mat<D>>(F + i * D * D);
+      const Mat<D> E = 0.5 * (Fi.transpose() * Fi - Mat<D>::Identity());  // 2.71
+      const Mat<D> S = isotropicLaw<D>(E, e.lambda, e.mu);                  // 2.73-2.74
+      const Mat<D> Pi = Fi * S;                                             // P = F S
+      const double J = Fi.determinant();                                    // 2.78
+      Eigen::Map<Mat<D>>(eps + i * D * D) = E;
+      Eigen::Map<Mat<D>>(P + i * D * D) = Pi;
+      Eigen::Map<Mat<D>>(sig + i * D * D) = Pi * Fi.transpose() / J;        // Cauchy
+      rho[i] = e.density / J;                                               // 2.79
+    }
+    return;
+  }
+#pragma omp parallel for schedule(static)
+  for (Index i = 0; i < n; ++i) {
+    const int k = slotOf(mat[i]);
+    if (k < 0) continue;
+    const ElasticMaterial& e = mats_[static_cast<size_t>(k)];
+    Eigen::Map<Mat<D>>(sig + i * D * D) =
+        isotropicLaw<D>(Eigen::Map<const Mat<D>>(eps + i * D * D), e.lambda, e.mu);  // 2.84
+  }
+  if (s.ghostCount() > 0) s.refreshGhosts(stress_);
+}
+
+// ------------------------------------------------------------------------------------------------
+// forces: internal forces (2.76 / 2.86 / 2.90), energy rate (2.77 / 2.87), artificial viscosity
+// (2.64-2.65), damping, traction; work rates for the energy balance
+// ------------------------------------------------------------------------------------------------
+void ElasticSolidModule::forces(Simulation& sim) {
+  dispatchDimension(sim.dimension(), [&](auto d) { forcesDim<decltype(d)::value>(sim); });
+}
+
+template <int D>
+void ElasticSolidModule::forcesDim(Simulation& sim) {
+  ParticleStore& s = sim.store;
+  const Index n = s.realCount();
+  const std::int32_t* mat = s.data(s.material());
+  const std::int32_t* phase = s.data(s.phase());
+  const std::int32_t* motion = s.data(sim.motion);
+  const std::int32_t* bc = s.data(bc_);
+  const double* x = s.data(s.position());
+  const double* v = s.data(s.velocity());
+  const double* m = s.data(s.mass());
+  const double* rho = s.data(s.density());
+  const double* u = s.data(disp_);
+  const double* fb = s.data(bcForce_);
+  double* acc = s.data(sim.acceleration);
+  double* wRate = s.data(energyRate_);
+  double* workRate = s.data(workRate_);
+  const Kernel& W = sim.kernel;
+  const double h = W.h();
+  const double t = sim.time;
+  auto isMine = [&](Index j) { return phase[j] == kPhaseSolid && slotOf(mat[j]) >= 0; };
+
+  // Monaghan's artificial viscosity, Eqs. 2.64-2.65: the acceleration term -m_b Pi_ab grad.
+  auto viscosity = [&](const ElasticMaterial& ea, const ElasticMaterial& eb, const Vec<D>& vab,
+                       const Vec<D>& rab, double rhoa, double rhob) -> double {
+    const double vr = vab.dot(rab);
+    if (vr >= 0.0) return 0.0;
+    const double nu = -h * vr / (rab.squaredNorm() + 0.01 * h * h);                     // 2.65
+    const double alpha = 0.5 * (ea.avAlpha + eb.avAlpha), beta = 0.5 * (ea.avBeta + eb.avBeta);
+    return (alpha * 0.5 * (ea.waveSpeed + eb.waveSpeed) * nu + beta * nu * nu) /
+           (0.5 * (rhoa + rhob));                                                         // 2.64
+  };
+
+  if (formulation_ == Formulation::TotalLagrangian) {
+    const std::int32_t* fam = s.data(family_);
+    const std::int32_t* famN = s.data(familyCount_);
+    const double* G = s.data(famGrad_);
+    const double* GR = s.data(famRevGrad_);
+    const double* P = s.data(piola_);
+    const int cap = familyCapacity_;
+#pragma omp parallel for schedule(static)
+    for (Index i = 0; i < n; ++i) {
+      const int k = slotOf(mat[i]);
+      if (k < 0) continue;
+      const ElasticMaterial& e = mats_[static_cast<size_t>(k)];
+      const Mat<D> Pi = Eigen::Map<const Mat<D>>(P + i * D * D);
+      const Vec<D> vi = Eigen::Map<const Vec<D>>(v + i * D);
+      const Vec<D> xi = Eigen::Map<const Vec<D>>(x + i * D);
+      Vec<D> f = Vec<D>::Zero(), fav = Vec<D>::Zero(), dvx = Vec<D>::Zero();
+      Mat<D> Fdot = Mat<D>::Zero();
+      const bool av = e.avAlpha > 0.0 || e.avBeta > 0.0;
+      for (int q = 0; q < famN[i]; ++q) {
+        const Index j = idToIndex_[static_cast<size_t>(fam[i * cap + q])];
+        const ElasticMaterial& ej = mats_[static_cast<size_t>(slotOf(mat[j]))];
+        const double Vj = m[j] / ej.density;
+        const Vec<D> g = Eigen::Map<const Vec<D>>(G + (i * cap + q) * D);
+        const Vec<D> gr = Eigen::Map<const Vec<D>>(GR + (i * cap + q) * D);
+        const Mat<D> Pj = Eigen::Map<const Mat<D>>(P + j * D * D);
+        f.noalias() += Vj * (Pi * g - Pj * gr);  // 2.76 (times m_a / V_a = rho0_a)
+        const Vec<D> vji = Eigen::Map<const Vec<D>>(v + j * D) - vi;
+        Fdot.noalias() += Vj * vji * g.transpose();  // 2.68
+        if (av) {
+          const Vec<D> rij = xi - Eigen::Map<const Vec<D>>(x + j * D);
+          const double Pi_ab = viscosity(e, ej, -vji, rij, rho[i], rho[j]);
+          fav.noalias() -= m[j] * Pi_ab * 0.5 * (g - gr);  // antisymmetrised reference gradient
+        }
+        if (e.xsph > 0.0) {  // 2.66, over the reference family with the current distance
+          const double w = W.value((xi - Eigen::Map<const Vec<D>>(x + j * D)).norm());
+          dvx.noalias() += m[j] * 2.0 * vji / (rho[i] + rho[j]) * w;
+        }
+      }
+      const Vec<D> a = f / e.density;
+      wRate[i] += (Pi.cwiseProduct(Fdot)).sum();  // 2.77: dw/dt = P : dF/dt (per unit volume)
+      Vec<D> extra = fav - e.damping * vi;
+      if (e.xsph > 0.0 && sim.dt > 0.0) extra += e.xsph * dvx / sim.dt;
+      const Vec<D> fext = Eigen::Map<const Vec<D>>(fb + i * D) *
+                          (bc[i] > 0 ? ramp(t, boundaries_[static_cast<size_t>(bc[i] - 1)].rampTime) : 0.0);
+      for (int c = 0; c < D; ++c) acc[i * D + c] += a[c] + extra[c] + fext[c] / m[i];
+      if (motion[i] == kMotionFree) {
+        workRate[i * 3 + 1] += vi.dot(fext);
+        workRate[i * 3 + 2] -= m[i] * vi.dot(extra);
+      }
+    }
+    return;
+  }
+
+  // ---- small strain: current solid neighbours (filtered in kinematics) ----
+  const double* sig = s.data(stress_);
+  const NeighbourList& sn = solidNeighbours_;
+  const CorrectionView view = corrFields_.view(s, Correction::Mixed, W);
+  const bool displacementForm = formulation_ == Formulation::SmallStrainDisplacement;
+#pragma omp parallel for schedule(static)
+  for (Index i = 0; i < n; ++i) {
+    if (!isMine(i)) continue;
+    const ElasticMaterial& e = mats_[static_cast<size_t>(slotOf(mat[i]))];
+    const Mat<D> sigi = Eigen::Map<const Mat<D>>(sig + i * D * D);
+    const Vec<D> vi = Eigen::Map<const Vec<D>>(v + i * D);
+    const Vec<D> xi = Eigen::Map<const Vec<D>>(x + i * D);
+    const Vec<D> ui = Eigen::Map<const Vec<D>>(u + i * D);
+    Vec<D> f = Vec<D>::Zero(), fav = Vec<D>::Zero(), dvx = Vec<D>::Zero();
+    Mat<D> L = Mat<D>::Zero();
+    const bool av = e.avAlpha > 0.0 || e.avBeta > 0.0;
+    for (auto p = sn.offset[static_cast<size_t>(i)]; p < sn.offset[static_cast<size_t>(i) + 1]; ++p) {
+      const Index j = sn.index[static_cast<size_t>(p)];
+      const ElasticMaterial& ej = mats_[static_cast<size_t>(slotOf(mat[j]))];
+      const Vec<D> rij = xi - Eigen::Map<const Vec<D>>(x + j * D);
+      const double r = rij.norm();
+      const double Vj = m[j] / rho[j];
+      const Vec<D> gradW = W.gradient<D>(rij);
+      const double Wij = W.value(r);
+      const Vec<D> gij = view.gradient<D>(i, gradW, Wij);
+      const Vec<D> vji = Eigen::Map<const Vec<D>>(v + j * D) - vi;
+      L.noalias() += Vj * vji * gij.transpose();  // 2.83
+      if (displacementForm) {
+        // Eqs. 2.88-2.90: rho a = mu lap(u) + (lambda + mu) grad(div u), with the
+        // second derivatives of Eq. 2.89: sum_b V_b [(D+2) e_j e_k - delta_jk] (u_a - u_b) F_ab.
+        const Vec<D> uij = ui - Eigen::Map<const Vec<D>>(u + j * D);
+        const double lam = 0.5 * (e.lambda + ej.lambda), mu = 0.5 * (e.mu + ej.mu);
+        f.noalias() += Vj * W.F(r) *
+                       ((mu - lam) * uij + (lam + mu) * (D + 2) * rij * (rij.dot(uij) / (r * r)));
+      } else {
+        const Vec<D> gji = view.gradient<D>(j, Vec<D>(-gradW), Wij);
+        const Mat<D> sigj = Eigen::Map<const Mat<D>>(sig + j * D * D);
+        f.noalias() += Vj * (sigi * gij - sigj * gji);  // 2.86 (times rho_a)
+      }
+      if (av) {
+        const double Pi_ab = viscosity(e, ej, -vji, rij, rho[i], rho[j]);
+        fav.noalias() -= m[j] * Pi_ab * gradW;
+      }
+      if (e.xsph > 0.0) dvx.noalias() += m[j] * 2.0 * vji / (rho[i] + rho[j]) * Wij;  // 2.66
+    }
+    wRate[i] += rho[i] / e.density * (sigi.cwiseProduct(L)).sum();  // 2.87 per unit reference volume
+    const Vec<D> a = f / rho[i];
+    Vec<D> extra = fav - e.damping * vi;
+    if (e.xsph > 0.0 && sim.dt > 0.0) extra += e.xsph * dvx / sim.dt;
+    const Vec<D> fext = Eigen::Map<const Vec<D>>(fb + i * D) *
+                        (bc[i] > 0 ? ramp(t, boundaries_[static_cast<size_t>(bc[i] - 1)].rampTime) : 0.0);
+    for (int c = 0; c < D; ++c) acc[i * D + c] += a[c] + extra[c] + fext[c] / m[i];
+    if (motion[i] == kMotionFree) {
+      workRate[i * 3 + 1] += vi.dot(fext);
+      workRate[i * 3 + 2] -= m[i] * vi.dot(extra);
+    }
+  }
+}
+
+// ------------------------------------------------------------------------------------------------
+// constraints: clamped and prescribed particles, XSPH (2.66)
+// ------------------------------------------------------------------------------------------------
+void ElasticSolidModule::constraints(Simulation& sim) {
+  dispatchDimension(sim.dimension(), [&](auto d) { constraintsDim<decltype(d)::value>(sim); });
+}
+
+template <int D>
+void ElasticSolidModule::constraintsDim(Simulation& sim) {
+  ParticleStore& s = sim.store;
+  const Index n = s.realCount();
+  const std::int32_t* mat = s.data(s.material());
+  const std::int32_t* bc = s.data(bc_);
+  double* v = s.data(s.velocity());
+  const double* m = s.data(s.mass());
+  double* acc = s.data(sim.acceleration);
+  double* workRate = s.data(workRate_);
+  const double t = sim.time;
+#pragma omp parallel for schedule(static)
+  for (Index i = 0; i < n; ++i) {
+    if (bc[i] <= 0 || slotOf(mat[i]) < 0) continue;
+    const Boundary& B = boundaries_[static_cast<size_t>(bc[i] - 1)];
+    if (B.type == BoundaryType::Clamped) {
+      for (int c = 0; c < D; ++c) {
+        acc[i * D + c] = 0.0;
+        if (!B.mirror) v[i * D + c] = 0.0;
+      }
+    } else if (B.type == BoundaryType::Velocity || B.type == BoundaryType::Displacement) {
+      // imposed velocity ramp, or the constant velocity of a displacement ramp
+      const double r = B.type == BoundaryType::Velocity ? ramp(t, B.rampTime)
+                                                        : rampRate(t, B.rampTime);
+      const double rdot = B.type == BoundaryType::Velocity ? rampRate(t, B.rampTime) : 0.0;
+      double power = 0.0;
+      for (int c = 0; c < D; ++c) {
+        const double target = B.value[static_cast<size_t>(c)] * r;
+        // the agent holding the particle supplies m (dv/dt - a_internal)
+        power += target * m[i] * (B.value[static_cast<size_t>(c)] * rdot - acc[i * D + c]);
+        v[i * D + c] = target;
+        acc[i * D + c] = 0.0;
+      }
+      workRate[i * 3 + 0] += power;
+    }
+  }
+
+}
+
+// ------------------------------------------------------------------------------------------------
+// time step (Eqs. 2.49-2.50) and diagnostics (energies, Eqs. 38-39 of Chapter 3)
+// ------------------------------------------------------------------------------------------------
+double ElasticSolidModule::elasticTimeStepLimit(const Simulation& sim) const {
+  double c = 0.0;
+  for (const auto& e : mats_) c = std::max(c, e.waveSpeed);
+  if (!(c > 0.0)) return std::numeric_limits<double>::infinity();
+  return courant * sim.kernel.h() / c;  // 2.50
+}
+
+double ElasticSolidModule::timeStepLimit(const Simulation& sim) const {
+  const ParticleStore& s = sim.store;
+  const Index n = s.realCount();
+  const int d = sim.dimension();
+  const std::int32_t* mat = s.data(s.material());
+  const double* v = s.data(s.velocity());
+  const double* a = s.data(sim.acceleration);
+  double vmax = 0.0, amax = 0.0;
+#pragma omp parallel for schedule(static) reduction(max : vmax, amax)
+  for (Index i = 0; i < n; ++i) {
+    if (slotOf(mat[i]) < 0) continue;
+    double v2 = 0.0, a2 = 0.0;
+    for (int c = 0; c < d; ++c) {
+      v2 += v[i * d + c] * v[i * d + c];
+      a2 += a[i * d + c] * a[i * d + c];
+    }
+    vmax = std::max(vmax, std::sqrt(v2));
+    amax = std::max(amax, std::sqrt(a2));
+  }
+  const double h = sim.kernel.h();
+  double dt = elasticTimeStepLimit(sim);
+  if (vmax > 0.0) dt = std::min(dt, 0.25 * h / vmax);             // 2.49a
+  if (amax > 0.0) dt = std::min(dt, 0.25 * std::sqrt(h / amax));  // 2.49b
+  return dt;
+}
+
+double ElasticSolidModule::elasticEnergy(const Simulation& sim) const {
+  return dispatchDimension(sim.dimension(),
+                           [&](auto d) { return elasticEnergyDim<decltype(d)::value>(sim); });
+}
+
+template <int D>
+double ElasticSolidModule::elasticEnergyDim(const Simulation& sim) const {
+  const ParticleStore& s = sim.store;
+  const Index n = s.realCount();
+  const std::int32_t* mat = s.data(s.material());
+  const double* m = s.data(s.mass());
+  const double* eps = s.data(strain_);
+  double e = 0.0;
+  const std::int32_t* src = anyMirror_ ? s.data(mirror_) : nullptr;
+#pragma omp parallel for schedule(static) reduction(+ : e)
+  for (Index i = 0; i < n; ++i) {
+    const int k = slotOf(mat[i]);
+    if (k < 0 || (src && src[i] > 0)) continue;  // mirror layers are images, not material
+    const ElasticMaterial& em = mats_[static_cast<size_t>(k)];
+    const Mat<D> E = Eigen::Map<const Mat<D>>(eps + i * D * D);
+    // TL: strain = E_GL and S = C0 : E_GL, psi = 1/2 S : E (SVK, Eq. 26 of Chapter 3)
+    const Mat<D> S = isotropicLaw<D>(E, em.lambda, em.mu);
+    e += m[i] / em.density * 0.5 * S.cwiseProduct(E).sum();
+  }
+  return e;
+}
+
+double ElasticSolidModule::kineticEnergy(const Simulation& sim) const {
+  const ParticleStore& s = sim.store;
+  const Index n = s.realCount();
+  const int d = sim.dimension();
+  const std::int32_t* mat = s.data(s.material());
+  const std::int32_t* mo = s.data(sim.motion);
+  const double* v = s.data(s.velocity());
+  const double* m = s.data(s.mass());
+  double e = 0.0;
+#pragma omp parallel for schedule(static) reduction(+ : e)
+  for (Index i = 0; i < n; ++i) {
+    if (slotOf(mat[i]) < 0 || mo[i] == kMotionFixed) continue;
+    double v2 = 0.0;
+    for (int c = 0; c < d; ++c) v2 += v[i * d + c] * v[i * d + c];
+    e += 0.5 * m[i] * v2;
+  }
+  return e;
+}
+
+double ElasticSolidModule::internalEnergy(const Simulation& sim) const {
+  const ParticleStore& s = sim.store;
+  const Index n = s.realCount();
+  const std::int32_t* mat = s.data(s.material());
+  const double* w = s.data(energy_);
+  const double* m = s.data(s.mass());
+  const std::int32_t* src = anyMirror_ ? s.data(mirror_) : nullptr;
+  double e = 0.0;
+#pragma omp parallel for schedule(static) reduction(+ : e)
+  for (Index i = 0; i < n; ++i) {
+    const int k = slotOf(mat[i]);
+    if (k < 0 || (src && src[i] > 0)) continue;
+    e += m[i] / mats_[static_cast<size_t>(k)].density * w[i];  // Eq. 39b, V0 w
+  }
+  return e;
+}
+
+std::array<double, 3> ElasticSolidModule::work(const Simulation& sim) const {
+  const ParticleStore& s = sim.store;
+  const Index n = s.realCount();
+  const std::int32_t* mat = s.data(s.material());
+  const double* w = s.data(work_);
+  double a = 0.0, b = 0.0, c = 0.0;
+#pragma omp parallel for schedule(static) reduction(+ : a, b, c)
+  for (Index i = 0; i < n; ++i) {
+    if (slotOf(mat[i]) < 0) continue;
+    a += w[i * 3];
+    b += w[i * 3 + 1];
+    c += w[i * 3 + 2];
+  }
+  return {a, b, c};
+}
+
+void ElasticSolidModule::diagnostics(const Simulation& sim,
+                                     std::vector<std::pair<std::string, double>>& columns) const {
+  const double ke = kineticEnergy(sim), el = elasticEnergy(sim), in = internalEnergy(sim);
+  const auto w = work(sim);
+  columns.emplace_back("solid_kinetic_energy", ke);
+  columns.emplace_back("solid_elastic_energy", el);
+  columns.emplace_back("solid_internal_energy", in);
+  columns.emplace_back("solid_boundary_work", w[0]);
+  columns.emplace_back("solid_external_work", w[1]);
+  columns.emplace_back("solid_dissipated_energy", w[2]);
+  // constant in time when the bookkeeping closes: kinetic + elastic - work in + dissipated
+  columns.emplace_back("solid_energy_balance", ke + el - w[0] - w[1] + w[2]);
+}
+
+}  // namespace poresph::solid
+
+using poresph::solid::ElasticSolidModule;
+PORESPH_REGISTER_MODULE(ElasticSolidModule, "solid")

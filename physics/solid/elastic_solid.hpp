@@ -1,0 +1,152 @@
+#pragma once
+// Elastic solid module (issue 4): material model "elastic", module name "solid".
+//
+// Formulations (thesis Chapter 2.4):
+//  - total_lagrangian: Saint Venant-Kirchhoff, F and dF/dt from reference-configuration mixed
+//    corrected gradients (Eqs. 2.67-2.68), E_GL, S, P (2.71-2.74), momentum 2.76 and energy 2.77,
+//    rho = rho0 / J (2.78-2.79).
+//  - small_strain_stress: strain and strain rate from the current-configuration mixed corrected
+//    gradient (2.82-2.83), isotropic law (2.84), continuity, momentum and energy (2.85-2.87).
+//  - small_strain_displacement: Navier's equation (2.88) with the second-derivative operator of
+//    Eq. 2.46c / 2.89 (Eq. 2.90, written for 1D, 2D and 3D).
+// Plus Monaghan artificial viscosity (2.64-2.65), XSPH (2.66), viscous damping for dynamic
+// relaxation, boundary conditions (clamped, imposed velocity/displacement ramps, traction,
+// pressure) and energy bookkeeping. See docs/solid.md.
+//
+// Fields registered (store names): reference_position, displacement, strain, stress (Cauchy),
+// internal_energy (+ _rate), solid_work (3: boundary work, external work, dissipated) (+ _rate),
+// solid_boundary (int, 1 + index of the boundary condition, 0 = none), solid_boundary_force;
+// TL: deformation_gradient, first_piola, solid_family (ids), solid_family_count,
+// solid_family_gradient, solid_family_reverse_gradient; small strain: density_rate and the
+// correction state solid_correction_{matrix,shepard_sum,shepard_gradient} (libcore/corrections).
+#include <array>
+#include <string>
+#include <vector>
+
+#include "libcore/corrections.hpp"
+#include "libcore/module.hpp"
+#include "libcore/neighbour_search.hpp"
+#include "libcore/particle_store.hpp"
+#include "libcore/types.hpp"
+
+namespace poresph {
+
+class Simulation;
+
+namespace solid {
+
+enum class Formulation { SmallStrainStress, SmallStrainDisplacement, TotalLagrangian };
+enum class Plane { Strain, Stress };
+
+/// Parameters of one "elastic" material, after checks.
+struct ElasticMaterial {
+  int materialId = -1;
+  std::string name;
+  double density = 0.0;       ///< rho0 [kg/m^3]
+  double young = 0.0;         ///< E [Pa]
+  double poisson = 0.0;       ///< nu [-]
+  double lambda = 0.0;        ///< Lame lambda used by the law (plane stress / 1D adjusted) [Pa]
+  double mu = 0.0;            ///< shear modulus [Pa]
+  double waveSpeed = 0.0;     ///< sqrt((lambda + 2 mu) / rho0) [m/s]
+  double avAlpha = 0.0;       ///< Eq. 2.64 alpha
+  double avBeta = 0.0;        ///< Eq. 2.64 beta
+  double xsph = 0.0;          ///< Eq. 2.66 epsilon
+  double damping = 0.0;       ///< viscous damping coefficient c [1/s]: a -= c v
+};
+
+/// Lame parameters of the law used in dimension `dim`: 3D and plane strain: the 3D ones;
+/// plane stress: lambda* = 2 lambda mu / (lambda + 2 mu); 1D (uniaxial stress): lambda = 0,
+/// 2 mu = E so that sigma = E eps.
+void lameParameters(double E, double nu, int dim, Plane plane, double& lambda, double& mu);
+
+enum class BoundaryType { Clamped, Velocity, Displacement, Traction, Pressure };
+
+struct Boundary {
+  BoundaryType type = BoundaryType::Clamped;
+  std::string label;
+  // selection (reference configuration): a box and/or a material
+  bool hasBox = false;
+  std::array<double, 3> boxMin{0, 0, 0}, boxMax{0, 0, 0};
+  int material = -1;
+  std::array<double, 3> value{0, 0, 0};  ///< velocity, displacement or traction vector
+  double pressure = 0.0;
+  double rampTime = 0.0;  ///< linear ramp 0 -> value over rampTime (0: applied at once)
+  double area = 0.0;      ///< area per particle [m^(D-1)]; 0: spacing^(D-1)
+  /// Clamped only: mirror (ghost) layer, thesis Sec. 2.6: each particle of the layer takes the
+  /// displacement and velocity of its mirror image across the plane, negated (odd reflection),
+  /// so that u = 0 on the plane exactly and the displacement field stays smooth across it.
+  bool mirror = false;
+  std::array<double, 3> mirrorPoint{0, 0, 0}, mirrorNormal{0, 0, 0};
+};
+
+class ElasticSolidModule : public Module {
+ public:
+  std::string name() const override { return "solid"; }
+  std::vector<std::string> materialModels() const override { return {"elastic"}; }
+  void configure(Simulation& sim, const std::vector<const Material*>& materials,
+                 const ParameterSet* section) override;
+  void initialise(Simulation& sim) override;
+  void kinematics(Simulation& sim) override;
+  void constitutive(Simulation& sim) override;
+  void forces(Simulation& sim) override;
+  void constraints(Simulation& sim) override;
+  double timeStepLimit(const Simulation& sim) const override;
+  void diagnostics(const Simulation& sim,
+                   std::vector<std::pair<std::string, double>>& columns) const override;
+
+  // ---- introspection (tests, docs) ----
+  Formulation formulation() const { return formulation_; }
+  Plane plane() const { return plane_; }
+  const std::vector<ElasticMaterial>& elasticMaterials() const { return mats_; }
+  const std::vector<Boundary>& boundaries() const { return boundaries_; }
+  /// Elastic (stored) energy: TL sum V0 1/2 S:E_GL; small strain sum V0 1/2 sigma:eps [J].
+  double elasticEnergy(const Simulation& sim) const;
+  /// Kinetic energy of the solid's non-fixed particles [J].
+  double kineticEnergy(const Simulation& sim) const;
+  /// Integrated internal energy sum V0 w (Eqs. 2.77 / 2.87, w per unit reference volume) [J].
+  double internalEnergy(const Simulation& sim) const;
+  /// Sums of solid_work: boundary work, external (traction) work, dissipated energy [J].
+  std::array<double, 3> work(const Simulation& sim) const;
+  /// The elastic CFL limit h sqrt(rho / (lambda + 2 mu)) (Eq. 2.50) over the materials.
+  double elasticTimeStepLimit(const Simulation& sim) const;
+  /// Largest reference family (TL) [-].
+  int familyCapacity() const { return familyCapacity_; }
+
+  /// Factor applied to the elastic limit of Eq. 2.50 when a step is checked (1 = the thesis).
+  double courant = 1.0;
+
+ private:
+  template <int D> void initialiseDim(Simulation& sim);
+  template <int D> void kinematicsDim(Simulation& sim);
+  template <int D> void constitutiveDim(Simulation& sim);
+  template <int D> void forcesDim(Simulation& sim);
+  template <int D> void constraintsDim(Simulation& sim);
+  template <int D> double elasticEnergyDim(const Simulation& sim) const;
+  void rebuildIdMap(const Simulation& sim);
+  template <int D> void applyMirrors(Simulation& sim);
+  int slotOf(std::int32_t material) const {
+    return material >= 0 && static_cast<size_t>(material) < slot_.size()
+               ? slot_[static_cast<size_t>(material)] : -1;
+  }
+
+  Formulation formulation_ = Formulation::TotalLagrangian;
+  Plane plane_ = Plane::Strain;
+  std::vector<ElasticMaterial> mats_;
+  std::vector<int> slot_;  // material id -> index in mats_ (-1: not elastic)
+  std::vector<Boundary> boundaries_;
+  bool initialised_ = false;
+
+  RealField refPos_, disp_, strain_, stress_, energy_, energyRate_, work_, workRate_, bcForce_;
+  RealField defGrad_, piola_, famGrad_, famRevGrad_;
+  RealField densityRate_;
+  CorrectionFields corrFields_;
+  NeighbourList solidNeighbours_;
+  std::vector<double> volume_;
+  IntField bc_, mirror_, family_, familyCount_;
+  bool anyMirror_ = false;
+  int familyCapacity_ = 0;
+  std::vector<Index> idToIndex_;
+};
+
+}  // namespace solid
+}  // namespace poresph

@@ -1,0 +1,101 @@
+#pragma once
+// Small builders of solid test scenes (used by the solid module's unit, validation and extreme
+// tests; also a compact example of building a run in C++ without a scene file).
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "libcore/integrator.hpp"
+#include "libcore/simulation.hpp"
+#include "physics/solid/elastic_solid.hpp"
+
+namespace poresph::solid {
+
+/// Adds one material to sim.materials from a YAML mapping string (file name "test").
+inline const Material& addMaterial(Simulation& sim, const std::string& name,
+                                   const std::string& model, const std::string& yaml) {
+  Material m;
+  m.id = static_cast<int>(sim.materials.size());
+  m.name = name;
+  m.model = model;
+  m.parameters = ParameterSet(YAML::Load(yaml), "test", "materials[" + std::to_string(m.id) + "]");
+  sim.materials.push_back(m);
+  return sim.materials.back();
+}
+
+/// Creates the "solid" module through the registry, configures it with every "elastic" material
+/// of sim and the given section (YAML mapping string, "" for none), adds it to sim and returns it.
+inline ElasticSolidModule& addSolidModule(Simulation& sim, const std::string& sectionYaml = "") {
+  std::unique_ptr<Module> mod = ModuleRegistry::create("solid");
+  std::vector<const Material*> mats;
+  for (const auto& m : sim.materials)
+    if (m.model == "elastic") mats.push_back(&m);
+  if (sectionYaml.empty()) {
+    mod->configure(sim, mats, nullptr);
+  } else {
+    ParameterSet section(YAML::Load(sectionYaml), "test", "solid");
+    mod->configure(sim, mats, &section);
+  }
+  auto* solid = dynamic_cast<ElasticSolidModule*>(mod.get());
+  sim.addModule(std::move(mod));
+  return *solid;
+}
+
+/// 1D bar of n material points on [0, L] at the cell centres (i + 1/2) dx, plus `layersLeft`
+/// and `layersRight` extra points beyond each end (for clamped layers), material 0.
+inline void buildBar(Simulation& sim, int n, double L, int layersLeft, int layersRight) {
+  const double dx = L / n;
+  sim.spacing = dx;
+  const Index total = n + layersLeft + layersRight;
+  sim.store.addParticles(total);
+  double* x = sim.store.data(sim.store.position());
+  Index k = 0;
+  for (int j = layersLeft; j >= 1; --j) x[k++] = -(j - 0.5) * dx;
+  for (int i = 0; i < n; ++i) x[k++] = (i + 0.5) * dx;
+  for (int j = 1; j <= layersRight; ++j) x[k++] = L + (j - 0.5) * dx;
+  sim.domain.lo = {-(layersLeft + 1) * dx, 0, 0};
+  sim.domain.hi = {L + (layersRight + 1) * dx, 1, 1};
+}
+
+/// Rectangular block of nx x ny (x nz) points at the cell centres of [x0, x0 + nx dx] x ...,
+/// material `material`. Returns the index of the first new particle.
+template <int D>
+Index buildBlock(Simulation& sim, const Vec<D>& origin, const std::array<int, 3>& count, double dx,
+                 int material = 0) {
+  const Index total = static_cast<Index>(count[0]) * (D > 1 ? count[1] : 1) * (D > 2 ? count[2] : 1);
+  const Index first = sim.store.addParticles(total);
+  double* x = sim.store.data(sim.store.position());
+  std::int32_t* mat = sim.store.data(sim.store.material());
+  Index k = first;
+  for (int c = 0; c < (D > 2 ? count[2] : 1); ++c)
+    for (int b = 0; b < (D > 1 ? count[1] : 1); ++b)
+      for (int a = 0; a < count[0]; ++a) {
+        const int idx[3] = {a, b, c};
+        for (int d = 0; d < D; ++d) x[k * D + d] = origin[d] + (idx[d] + 0.5) * dx;
+        mat[k] = material;
+        ++k;
+      }
+  return first;
+}
+
+/// Zero crossings (linear interpolation) of a sampled signal; returns crossing times.
+inline std::vector<double> zeroCrossings(const std::vector<double>& t, const std::vector<double>& y) {
+  std::vector<double> out;
+  for (size_t k = 1; k < y.size(); ++k)
+    if ((y[k - 1] < 0.0) != (y[k] < 0.0)) {
+      const double s = y[k - 1] / (y[k - 1] - y[k]);
+      out.push_back(t[k - 1] + s * (t[k] - t[k - 1]));
+    }
+  return out;
+}
+
+/// Period from zero crossings: (last - first) / (number of half periods) * 2; 0 if < 3 crossings.
+inline double periodFromCrossings(const std::vector<double>& c) {
+  if (c.size() < 3) return 0.0;
+  return 2.0 * (c.back() - c.front()) / static_cast<double>(c.size() - 1);
+}
+
+}  // namespace poresph::solid
