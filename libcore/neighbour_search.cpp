@@ -3,38 +3,70 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <limits>
 
 namespace poresph {
 
+#ifndef PORESPH_CELL_FRACTION
+#define PORESPH_CELL_FRACTION 0.5
+#endif
+// Cell edge / radius of the search (0.5: measured fastest, docs/performance.md).
+constexpr double kCellFraction = PORESPH_CELL_FRACTION;
+
 template <int D>
 void NeighbourSearch::sortIntoCells(const double* x, Index n, double cellSize) {
-  // Bounding box of all particles (ghosts included).
+  // Bounding box of all particles (ghosts included). A NaN or Inf position is an error: it would
+  // otherwise be silently binned into cell 0 (min/max ignore NaN).
   double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+  double maxAbs = 0.0;
   for (int a = 0; a < D; ++a) {
     double mn = std::numeric_limits<double>::max(), mx = -std::numeric_limits<double>::max();
-#pragma omp parallel for reduction(min : mn) reduction(max : mx) schedule(static)
+    int bad = 0;
+#pragma omp parallel for reduction(min : mn) reduction(max : mx, bad) schedule(static)
     for (Index i = 0; i < n; ++i) {
-      mn = std::min(mn, x[i * D + a]);
-      mx = std::max(mx, x[i * D + a]);
+      const double v = x[i * D + a];
+      if (!std::isfinite(v)) bad = 1;
+      mn = std::min(mn, v);
+      mx = std::max(mx, v);
+    }
+    if (bad) {
+      Index first = 0;
+      while (first < n && std::isfinite(x[first * D + a])) ++first;
+      throw NumericalError("neighbour search: position of particle " + std::to_string(first) +
+                           " is not finite (axis " + std::to_string(a) + ")");
     }
     if (n == 0) mn = mx = 0.0;
-    if (!std::isfinite(mn) || !std::isfinite(mx))
-      throw NumericalError("neighbour search: a particle position is not finite");
+    if (!std::isfinite(mx - mn))
+      throw NumericalError("neighbour search: particle positions span more than the largest double");
     lo[a] = mn;
     hi[a] = mx;
+    maxAbs = std::max({maxAbs, std::abs(mn), std::abs(mx)});
   }
-  // Cell size = support radius, enlarged when the cell count would exceed ~2 cells per particle
-  // (tiny h in a large box): larger cells only add candidates, never lose a pair.
-  double cell = cellSize;
-  for (int iter = 0; iter < 64; ++iter) {
+  // Cell size as asked, enlarged when the cell count would exceed ~2 cells per particle (tiny h
+  // in a large box): larger cells only add candidates, never lose a pair. The smallest cell that
+  // meets the cap is found by bisection, so the count stays bounded whatever the box/h ratio.
+  const double target = 2.0 * static_cast<double>(n) + 64.0;
+  auto cellsFor = [&](double c) {
     double cells = 1.0;
-    for (int a = 0; a < D; ++a) cells *= std::floor((hi[a] - lo[a]) / cell) + 1.0;
-    if (cells <= 2.0 * static_cast<double>(n) + 64.0) break;
-    cell *= 1.25;
+    for (int a = 0; a < D; ++a) cells *= std::floor((hi[a] - lo[a]) / c) + 1.0;
+    return cells;
+  };
+  double cell = cellSize;
+  if (cellsFor(cell) > target) {
+    double small = cell, large = cell;
+    for (int a = 0; a < D; ++a) large = std::max(large, 2.0 * (hi[a] - lo[a]));  // one cell
+    for (int iter = 0; iter < 200 && large > small * (1.0 + 1e-6); ++iter) {
+      const double mid = std::sqrt(small) * std::sqrt(large);  // geometric: ratios can be 1e300
+      if (cellsFor(mid) > target) small = mid; else large = mid;
+    }
+    cell = large;
   }
   invCell_ = 1.0 / cell;
+  // Round-off guard of the row pruning in buildDim: cell bounds computed as origin + c * cell
+  // may differ from the binning (x - origin) * invCell by a few ulps of the coordinates.
+  margin_ = 1e-9 * cell + 16.0 * DBL_EPSILON * maxAbs;
   nCells_ = 1;
   for (int a = 0; a < 3; ++a) dims_[a] = 1;
   for (int a = 0; a < D; ++a) {
@@ -68,8 +100,20 @@ void NeighbourSearch::sortIntoCells(const double* x, Index n, double cellSize) {
 template <int D>
 void NeighbourSearch::buildDim(const double* x, Index nReal, Index nTotal, double radius,
                                NeighbourList& out) {
-  sortIntoCells<D>(x, nTotal, radius);
+  // Cells of half the radius: the candidates of a particle fill a box of (radius + cell) half
+  // width instead of (2 radius) for cells of one radius; rows are then pruned to the sphere.
+  sortIntoCells<D>(x, nTotal, kCellFraction * radius);
   const double r2max = radius * radius;
+  const double cell = 1.0 / invCell_;
+  // Positions in cell order: the candidates of a row of cells are contiguous in memory.
+  xs_.resize(static_cast<size_t>(nTotal) * D);
+#pragma omp parallel for schedule(static)
+  for (Index s = 0; s < nTotal; ++s)
+    for (int a = 0; a < D; ++a) xs_[static_cast<size_t>(s * D + a)] = x[sorted_[static_cast<size_t>(s)] * D + a];
+  const double* xs = xs_.data();
+  const Index* sorted = sorted_.data();
+  const Index* cellStart = cellStart_.data();
+
   const int nThreads = omp_get_max_threads();
   if (static_cast<int>(threadIndex_.size()) < nThreads) {
     threadIndex_.resize(static_cast<size_t>(nThreads));
@@ -78,9 +122,18 @@ void NeighbourSearch::buildDim(const double* x, Index nReal, Index nTotal, doubl
   out.offset.resize(static_cast<size_t>(nReal) + 1);
   std::vector<std::int64_t>& chunkBegin = chunkBegin_;
   chunkBegin.assign(static_cast<size_t>(nThreads) + 1, 0);
-  // Visiting order of the neighbour cells: enough layers to cover `radius` (one layer unless
-  // cells were enlarged beyond the radius, which only makes one layer more than enough).
-  const int layer = 1;
+  auto cellIndex = [&](double v, int a) {
+    const double f = (v - origin_[a]) * invCell_;
+    if (!(f >= 0.0)) return 0;  // also catches -inf
+    if (f >= static_cast<double>(dims_[a] - 1)) return dims_[a] - 1;
+    return static_cast<int>(f);
+  };
+  // Distance from v to cell c along axis a (zero inside), lowered by the round-off guard.
+  auto gap = [&](double v, int c, int a) {
+    const double lo = origin_[a] + c * cell, hi = lo + cell;
+    const double g = v < lo ? lo - v : (v > hi ? v - hi : 0.0);
+    return std::max(0.0, g - margin_);
+  };
 #pragma omp parallel num_threads(nThreads)
   {
     const int t = omp_get_thread_num();
@@ -88,39 +141,77 @@ void NeighbourSearch::buildDim(const double* x, Index nReal, Index nTotal, doubl
     const Index i0 = nReal * t / nt, i1 = nReal * (t + 1) / nt;
     auto& idx = threadIndex_[static_cast<size_t>(t)];
     auto& cnt = threadCount_[static_cast<size_t>(t)];
-    idx.clear();
     cnt.clear();
+    std::size_t used = 0;  // entries of idx in use (idx is grown, never shrunk)
+    // Per-particle squared gaps to the rows of cells along y and z (at most a few cells each).
+    constexpr int kMaxSpan = 64;
+    double gy2[kMaxSpan], gz2[kMaxSpan];
+    const int dimsX = dims_[0], dimsY = dims_[1];
+    const double ox = origin_[0];
     for (Index i = i0; i < i1; ++i) {
       const double* xi = x + i * D;
-      int ci[3] = {0, 0, 0};
-      for (int a = 0; a < D; ++a) {
-        int k = static_cast<int>((xi[a] - origin_[a]) * invCell_);
-        ci[a] = std::min(std::max(k, 0), dims_[a] - 1);
+      const std::size_t before = used;
+      int zlo = 0, zhi = 0, ylo = 0, yhi = 0;
+      if (D > 2) {
+        zlo = cellIndex(xi[D - 1] - radius, D - 1), zhi = cellIndex(xi[D - 1] + radius, D - 1);
+        zhi = std::min(zhi, zlo + kMaxSpan - 1);  // spans are <= 2 radius / cell + 1 = 5
+        for (int cz = zlo; cz <= zhi; ++cz) {
+          const double g = gap(xi[D - 1], cz, D - 1);
+          gz2[cz - zlo] = g * g;
+        }
+      } else {
+        gz2[0] = 0.0;
       }
-      const std::size_t before = idx.size();
-      const int zlo = D > 2 ? std::max(ci[2] - layer, 0) : 0, zhi = D > 2 ? std::min(ci[2] + layer, dims_[2] - 1) : 0;
-      const int ylo = D > 1 ? std::max(ci[1] - layer, 0) : 0, yhi = D > 1 ? std::min(ci[1] + layer, dims_[1] - 1) : 0;
-      const int xlo = std::max(ci[0] - layer, 0), xhi = std::min(ci[0] + layer, dims_[0] - 1);
-      for (int cz = zlo; cz <= zhi; ++cz)
+      if (D > 1) {
+        ylo = cellIndex(xi[1 % D] - radius, 1 % D), yhi = cellIndex(xi[1 % D] + radius, 1 % D);
+        yhi = std::min(yhi, ylo + kMaxSpan - 1);
         for (int cy = ylo; cy <= yhi; ++cy) {
-          // Cells xlo..xhi are contiguous in the sorted array: one range per row.
-          const Index rowBase = (static_cast<Index>(cz) * dims_[1] + cy) * dims_[0];
-          const Index jb = cellStart_[static_cast<size_t>(rowBase + xlo)];
-          const Index je = cellStart_[static_cast<size_t>(rowBase + xhi) + 1];
+          const double g = gap(xi[1 % D], cy, 1 % D);
+          gy2[cy - ylo] = g * g;
+        }
+      } else {
+        gy2[0] = 0.0;
+      }
+      // Capacity for every candidate of this particle: all particles of the block of cells.
+      {
+        const Index first = cellStart[(static_cast<Index>(zlo) * dimsY + ylo) * dimsX];
+        const Index last = cellStart[(static_cast<Index>(zhi) * dimsY + yhi) * dimsX + dimsX];
+        if (idx.size() < used + static_cast<std::size_t>(last - first))
+          idx.resize(std::max(2 * idx.size(), used + static_cast<std::size_t>(last - first) + 4096));
+      }
+      std::uint32_t* dst = idx.data();
+      const double xi0 = xi[0];
+      for (int cz = zlo; cz <= zhi; ++cz) {
+        const double gzz = gz2[cz - zlo];
+        if (gzz >= r2max) continue;
+        for (int cy = ylo; cy <= yhi; ++cy) {
+          const double g2 = gzz + gy2[cy - ylo];
+          if (g2 >= r2max) continue;
+          // Along x only the cells within sqrt(r^2 - g^2) of x_i can hold a neighbour.
+          const double ext = std::sqrt(r2max - g2) * (1.0 + 1e-12) + margin_;
+          double flo = (xi0 - ext - ox) * invCell_, fhi = (xi0 + ext - ox) * invCell_;
+          const int xlo = flo <= 0.0 ? 0 : static_cast<int>(flo);
+          const int xhi = fhi >= dimsX - 1 ? dimsX - 1 : static_cast<int>(fhi);
+          // Cells xlo..xhi of a row are contiguous in the sorted order: one range per row.
+          const Index rowBase = (static_cast<Index>(cz) * dimsY + cy) * dimsX;
+          const Index jb = cellStart[rowBase + xlo];
+          const Index je = cellStart[rowBase + xhi + 1];
+          // Branch-free append: write every candidate, keep it when inside the radius.
           for (Index s = jb; s < je; ++s) {
-            const Index j = sorted_[static_cast<size_t>(s)];
-            if (j == i) continue;
             double r2 = 0.0;
             for (int a = 0; a < D; ++a) {
-              const double dx = xi[a] - x[j * D + a];
+              const double dx = xi[a] - xs[s * D + a];
               r2 += dx * dx;
             }
-            if (r2 < r2max) idx.push_back(static_cast<std::uint32_t>(j));
+            const Index j = sorted[s];
+            dst[used] = static_cast<std::uint32_t>(j);
+            used += static_cast<std::size_t>((r2 < r2max) & (j != i));
           }
         }
-      cnt.push_back(static_cast<std::int64_t>(idx.size() - before));
+      }
+      cnt.push_back(static_cast<std::int64_t>(used - before));
     }
-    chunkBegin[static_cast<size_t>(t) + 1] = static_cast<std::int64_t>(idx.size());
+    chunkBegin[static_cast<size_t>(t) + 1] = static_cast<std::int64_t>(used);
 #pragma omp barrier
 #pragma omp single
     {
@@ -132,14 +223,18 @@ void NeighbourSearch::buildDim(const double* x, Index nReal, Index nTotal, doubl
       out.offset[static_cast<size_t>(i)] = o;
       o += cnt[static_cast<size_t>(i - i0)];
     }
-    std::copy(idx.begin(), idx.end(), out.index.begin() + chunkBegin[static_cast<size_t>(t)]);
+    std::copy(idx.begin(), idx.begin() + static_cast<std::ptrdiff_t>(used),
+              out.index.begin() + chunkBegin[static_cast<size_t>(t)]);
   }
   out.offset[static_cast<size_t>(nReal)] = static_cast<std::int64_t>(out.index.size());
 }
 
 void NeighbourSearch::build(const double* x, int dim, Index nReal, Index nTotal, double radius,
                             NeighbourList& out) {
-  if (!(radius > 0.0)) throw std::logic_error("neighbour search: radius must be positive");
+  if (!(radius > 0.0) || !std::isfinite(radius))
+    throw std::logic_error("neighbour search: radius must be positive and finite");
+  if (nReal < 0 || nReal > nTotal)
+    throw std::logic_error("neighbour search: need 0 <= nReal <= nTotal");
   if (nTotal > static_cast<Index>(std::numeric_limits<std::uint32_t>::max()))
     throw std::logic_error("neighbour search: more than 2^32 particles in one store");
   dispatchDimension(dim, [&](auto d) { buildDim<decltype(d)::value>(x, nReal, nTotal, radius, out); });
@@ -149,6 +244,15 @@ void NeighbourSearch::cellOrder(const double* x, int dim, Index n, double cellSi
                                 std::vector<Index>& newToOld) {
   dispatchDimension(dim, [&](auto d) { sortIntoCells<decltype(d)::value>(x, n, cellSize); });
   newToOld.assign(sorted_.begin(), sorted_.end());
+}
+
+std::size_t NeighbourSearch::bytes() const {
+  std::size_t b = (cellOf_.capacity() + cellStart_.capacity() + sorted_.capacity() +
+                   cursor_.capacity()) * sizeof(Index) +
+                  xs_.capacity() * sizeof(double) + chunkBegin_.capacity() * sizeof(std::int64_t);
+  for (const auto& v : threadIndex_) b += v.capacity() * sizeof(std::uint32_t);
+  for (const auto& v : threadCount_) b += v.capacity() * sizeof(std::int64_t);
+  return b;
 }
 
 }  // namespace poresph

@@ -1,5 +1,7 @@
 #pragma once
-// Cell-linked-list neighbour search (cell size >= support radius).
+// Cell-linked-list neighbour search. Cells are half the radius (enlarged when the cell count
+// would exceed ~2 per particle); for each particle the rows of cells within the radius are
+// pruned against the sphere, so that few candidates beyond the radius are tested.
 //
 // Lists are built for the real particles [0, nReal) over all particles [0, nTotal), ghosts
 // included, so periodicity comes from the halo (PeriodicHalo) and not from the search itself:
@@ -35,6 +37,10 @@ class NeighbourSearch {
 
   /// Number of cells of the last build (for diagnostics and tests).
   Index cellCount() const { return nCells_; }
+  /// Cell edge of the last build (radius / 2 unless enlarged to cap the cell count).
+  double cellSize() const { return 1.0 / invCell_; }
+  /// Bytes held by the search itself (cells, sorted copy of positions, per-thread buffers).
+  std::size_t bytes() const;
 
  private:
   template <int D>
@@ -50,6 +56,8 @@ class NeighbourSearch {
   std::vector<Index> cellStart_;
   std::vector<Index> sorted_;
   std::vector<Index> cursor_;
+  std::vector<double> xs_;  // positions in cell order (contiguous candidates)
+  double margin_ = 0.0;     // round-off guard of the row pruning (absolute, metres)
   std::vector<std::int64_t> chunkBegin_;
   std::vector<std::vector<std::uint32_t>> threadIndex_;
   std::vector<std::vector<std::int64_t>> threadCount_;
