@@ -231,8 +231,9 @@ void NeighbourSearch::buildDim(const double* x, Index nReal, Index nTotal, doubl
 
 void NeighbourSearch::build(const double* x, int dim, Index nReal, Index nTotal, double radius,
                             NeighbourList& out) {
-  if (!(radius > 0.0) || !std::isfinite(radius))
-    throw std::logic_error("neighbour search: radius must be positive and finite");
+  if (!(radius * radius > 0.0) || !std::isfinite(radius * radius))
+    throw std::logic_error("neighbour search: radius must be positive and finite (and its square "
+                           "a normal double), got " + std::to_string(radius));
   if (nReal < 0 || nReal > nTotal)
     throw std::logic_error("neighbour search: need 0 <= nReal <= nTotal");
   if (nTotal > static_cast<Index>(std::numeric_limits<std::uint32_t>::max()))
