@@ -231,7 +231,7 @@ void NeighbourSearch::buildDim(const double* x, Index nReal, Index nTotal, doubl
 
 void NeighbourSearch::build(const double* x, int dim, Index nReal, Index nTotal, double radius,
                             NeighbourList& out) {
-  if (!(radius * radius > 0.0) || !std::isfinite(radius * radius))
+  if (!(radius > 0.0) || !(radius * radius > 0.0) || !std::isfinite(radius * radius))
     throw std::logic_error("neighbour search: radius must be positive and finite (and its square "
                            "a normal double), got " + std::to_string(radius));
   if (nReal < 0 || nReal > nTotal)
