@@ -262,4 +262,23 @@ PORESPH_INSTANTIATE_OPERATORS(3)
 
 #undef PORESPH_INSTANTIATE_OPERATORS
 
+void interpolate(const SphGeometry& g, const double* f, int nc, double* out) {
+  dispatchDimension(g.dim, [&](auto d) { interpolate<decltype(d)::value>(g, f, nc, out); });
+}
+void gradient(const SphGeometry& g, DerivativeForm form, const double* f, int nc, double* out) {
+  dispatchDimension(g.dim,
+                    [&](auto d) { gradient<decltype(d)::value>(g, form, f, nc, out); });
+}
+void divergence(const SphGeometry& g, DerivativeForm form, const double* f, double* out) {
+  dispatchDimension(g.dim, [&](auto d) { divergence<decltype(d)::value>(g, form, f, out); });
+}
+void diffusion(const SphGeometry& g, const double* f, int nc, const double* phi, PairMean mean,
+               double* out) {
+  dispatchDimension(g.dim,
+                    [&](auto d) { diffusion<decltype(d)::value>(g, f, nc, phi, mean, out); });
+}
+void secondDerivatives(const SphGeometry& g, const double* f, double* out) {
+  dispatchDimension(g.dim, [&](auto d) { secondDerivatives<decltype(d)::value>(g, f, out); });
+}
+
 }  // namespace poresph

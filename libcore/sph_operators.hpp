@@ -96,4 +96,12 @@ template <int D>
 std::vector<std::pair<Index, double>> divergencePairs(const SphGeometry& g, DerivativeForm form,
                                                       const double* f, Index a);
 
+// ---- run-time dimension versions (dispatch on g.dim to the templates above) ----
+void interpolate(const SphGeometry& g, const double* f, int nc, double* out);
+void gradient(const SphGeometry& g, DerivativeForm form, const double* f, int nc, double* out);
+void divergence(const SphGeometry& g, DerivativeForm form, const double* f, double* out);
+void diffusion(const SphGeometry& g, const double* f, int nc, const double* phi, PairMean mean,
+               double* out);
+void secondDerivatives(const SphGeometry& g, const double* f, double* out);
+
 }  // namespace poresph

@@ -323,3 +323,60 @@ TEST(Operators, RejectsDimensionMismatchAndMissingDensity) {
   EXPECT_THROW(divergence<2>(geo, DerivativeForm::Symmetric, f.data(), out.data()),
                std::invalid_argument);
 }
+
+TEST(Operators, GhostNeighboursGiveTheSameResultAsRealOnes) {
+  // Real particles first, the rest of the block as ghosts (nReal < nTotal): the results of the
+  // real particles must equal those of the full computation (ghost indices in lists, volumes and
+  // positions of ghosts read correctly). Uses the run-time-dimension entry points.
+  const ParticleBlock full = makeBlock(2, 10, 0.1, 0.0, 0.25);
+  const Kernel k(KernelType::CubicSpline, 2, 0.13);
+  // order: the inner 6x6 first (real), then the frame (ghosts)
+  std::vector<Index> order, frame;
+  for (Index a = 0; a < full.count(); ++a) {
+    const Index i = a % 10, j = a / 10;
+    ((i >= 2 && i < 8 && j >= 2 && j < 8) ? order : frame).push_back(a);
+  }
+  const Index nReal = static_cast<Index>(order.size());
+  order.insert(order.end(), frame.begin(), frame.end());
+  ParticleBlock split;
+  split.dim = 2;
+  for (Index a : order) {
+    split.x.push_back(full.x[2 * a]);
+    split.x.push_back(full.x[2 * a + 1]);
+    split.volume.push_back(full.volume[a]);
+  }
+  NeighbourList nlSplit;
+  NeighbourSearch search;
+  search.build(split.x.data(), 2, nReal, split.count(), k.support(), nlSplit);
+  const NeighbourList nlFull = buildNeighbours(full, k);
+
+  CorrectionBuffer bufFull, bufSplit;
+  const CorrectionView vFull = correct(full, nlFull, k, Correction::Mixed, bufFull);
+  bufSplit.resize(2, nReal);
+  computeCorrection(2, Correction::Mixed, k, split.x.data(), split.volume.data(), nReal, nlSplit,
+                    bufSplit.arrays());
+  SphGeometry gSplit = makeGeometry(split, nlSplit, k, bufSplit.view(Correction::Mixed, k));
+  gSplit.nReal = nReal;
+  const SphGeometry gFull = makeGeometry(full, nlFull, k, vFull);
+
+  auto field = [](const double* x) { return std::sin(3.0 * x[0]) * std::cos(2.0 * x[1]); };
+  std::vector<double> fFull(full.count()), fSplit(split.count());
+  for (Index a = 0; a < full.count(); ++a) fFull[a] = field(&full.x[2 * a]);
+  for (Index a = 0; a < split.count(); ++a) fSplit[a] = field(&split.x[2 * a]);
+  std::vector<double> gradFull(2 * full.count()), gradSplit(2 * nReal);
+  std::vector<double> lapFull(full.count()), lapSplit(nReal);
+  std::vector<double> intFull(full.count()), intSplit(nReal);
+  gradient(gFull, DerivativeForm::Standard, fFull.data(), 1, gradFull.data());
+  gradient(gSplit, DerivativeForm::Standard, fSplit.data(), 1, gradSplit.data());
+  diffusion(gFull, fFull.data(), 1, nullptr, PairMean::Arithmetic, lapFull.data());
+  diffusion(gSplit, fSplit.data(), 1, nullptr, PairMean::Arithmetic, lapSplit.data());
+  interpolate(gFull, fFull.data(), 1, intFull.data());
+  interpolate(gSplit, fSplit.data(), 1, intSplit.data());
+  for (Index s = 0; s < nReal; ++s) {
+    const Index a = order[static_cast<size_t>(s)];
+    EXPECT_NEAR(gradSplit[2 * s], gradFull[2 * a], 1e-11);
+    EXPECT_NEAR(gradSplit[2 * s + 1], gradFull[2 * a + 1], 1e-11);
+    EXPECT_NEAR(lapSplit[s], lapFull[a], 1e-9 * (1.0 + std::abs(lapFull[a])));
+    EXPECT_NEAR(intSplit[s], intFull[a], 1e-13);
+  }
+}
