@@ -182,6 +182,18 @@ void ElasticSolidModule::configure(Simulation& sim, const std::vector<const Mate
         ++k;
       }
     }
+    if (section->has("initial_velocity")) {
+      // standing-wave initial velocity v = amplitude sin(k . X) on the free particles
+      const ParameterSet w = section->section("initial_velocity");
+      const auto A = w.reals("amplitude", static_cast<size_t>(dim));
+      const auto k = w.reals("wavevector", static_cast<size_t>(dim));
+      w.finish();
+      hasWave_ = true;
+      for (int a = 0; a < dim; ++a) {
+        waveAmplitude_[static_cast<size_t>(a)] = A[static_cast<size_t>(a)];
+        waveVector_[static_cast<size_t>(a)] = k[static_cast<size_t>(a)];
+      }
+    }
     section->finish();
   }
 
@@ -209,6 +221,14 @@ void ElasticSolidModule::configure(Simulation& sim, const std::vector<const Mate
     densityRate_ = s.addReal("density_rate", 1, kFieldNone, me);
     corrFields_ = registerCorrectionFields(s, "solid_correction", me);
     sim.addIntegrated(s.density(), densityRate_, false);
+  }
+  bool anyXsph = false;
+  for (const auto& m : mats_) anyXsph = anyXsph || m.xsph > 0.0;
+  if (anyXsph) {
+    // XSPH (2.66) moves the particles with the corrected velocity v^ = v + dv^: the correction
+    // dv^ is a second rate of the positions, advanced by the integrator like any other field.
+    xsph_ = s.addReal("solid_xsph_velocity", dim, kFieldNone, me);
+    sim.addIntegrated(s.position(), xsph_, true);
   }
   sim.addIntegrated(energy_, energyRate_, false);
   sim.addIntegrated(work_, workRate_, false);
@@ -286,6 +306,14 @@ void ElasticSolidModule::initialiseDim(Simulation& sim) {
       throw InputError("solid module: boundary '" + boundaries_[b].label +
                        "' selects no solid particle (check its box/material)");
   }
+
+  if (hasWave_)
+    for (Index i : mine) {
+      if (motion[i] != kMotionFree) continue;
+      double phase = 0.0;
+      for (int a = 0; a < D; ++a) phase += waveVector_[static_cast<size_t>(a)] * X[i * D + a];
+      for (int a = 0; a < D; ++a) v[i * D + a] = waveAmplitude_[static_cast<size_t>(a)] * std::sin(phase);
+    }
 
   // Mirror layers: the source of each layer particle is the solid particle (not in a boundary
   // set) nearest to its reflection; it must coincide with it (the layer mirrors the body).
@@ -671,6 +699,7 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
   double* acc = s.data(sim.acceleration);
   double* wRate = s.data(energyRate_);
   double* workRate = s.data(workRate_);
+  double* xsphRate = xsph_.valid() ? s.data(xsph_) : nullptr;
   const Kernel& W = sim.kernel;
   const double h = W.h();
   const double t = sim.time;
@@ -727,8 +756,8 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
       }
       const Vec<D> a = f / e.density;
       wRate[i] += (Pi.cwiseProduct(Fdot)).sum();  // 2.77: dw/dt = P : dF/dt (per unit volume)
-      Vec<D> extra = fav - e.damping * vi;
-      if (e.xsph > 0.0 && sim.dt > 0.0) extra += e.xsph * dvx / sim.dt;
+      const Vec<D> extra = fav - e.damping * vi;
+      if (xsphRate) Eigen::Map<Vec<D>>(xsphRate + i * D) += e.xsph * dvx;
       const Vec<D> fext = Eigen::Map<const Vec<D>>(fb + i * D) *
                           (bc[i] > 0 ? ramp(t, boundaries_[static_cast<size_t>(bc[i] - 1)].rampTime) : 0.0);
       for (int c = 0; c < D; ++c) acc[i * D + c] += a[c] + extra[c] + fext[c] / m[i];
@@ -787,8 +816,8 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
     }
     wRate[i] += rho[i] / e.density * (sigi.cwiseProduct(L)).sum();  // 2.87 per unit reference volume
     const Vec<D> a = f / rho[i];
-    Vec<D> extra = fav - e.damping * vi;
-    if (e.xsph > 0.0 && sim.dt > 0.0) extra += e.xsph * dvx / sim.dt;
+    const Vec<D> extra = fav - e.damping * vi;
+    if (xsphRate) Eigen::Map<Vec<D>>(xsphRate + i * D) += e.xsph * dvx;
     const Vec<D> fext = Eigen::Map<const Vec<D>>(fb + i * D) *
                         (bc[i] > 0 ? ramp(t, boundaries_[static_cast<size_t>(bc[i] - 1)].rampTime) : 0.0);
     for (int c = 0; c < D; ++c) acc[i * D + c] += a[c] + extra[c] + fext[c] / m[i];

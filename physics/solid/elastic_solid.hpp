@@ -135,10 +135,12 @@ class ElasticSolidModule : public Module {
   std::vector<int> slot_;  // material id -> index in mats_ (-1: not elastic)
   std::vector<Boundary> boundaries_;
   bool initialised_ = false;
+  bool hasWave_ = false;
+  std::array<double, 3> waveAmplitude_{0, 0, 0}, waveVector_{0, 0, 0};
 
   RealField refPos_, disp_, strain_, stress_, energy_, energyRate_, work_, workRate_, bcForce_;
   RealField defGrad_, piola_, famGrad_, famRevGrad_;
-  RealField densityRate_;
+  RealField densityRate_, xsph_;
   CorrectionFields corrFields_;
   NeighbourList solidNeighbours_;
   std::vector<double> volume_;
