@@ -177,7 +177,10 @@ void NeighbourSearch::buildDim(const double* x, Index nReal, Index nTotal, doubl
         const Index first = cellStart[(static_cast<Index>(zlo) * dimsY + ylo) * dimsX];
         const Index last = cellStart[(static_cast<Index>(zhi) * dimsY + yhi) * dimsX + dimsX];
         if (idx.size() < used + static_cast<std::size_t>(last - first))
-          idx.resize(std::max(2 * idx.size(), used + static_cast<std::size_t>(last - first) + 4096));
+          // Grow by a quarter (not doubling): the buffers live as long as the search and hold
+          // the whole list, so slack costs real memory at 1e6+ particles.
+          idx.resize(std::max(idx.size() + idx.size() / 4,
+                              used + static_cast<std::size_t>(last - first) + 4096));
       }
       std::uint32_t* dst = idx.data();
       const double xi0 = xi[0];
@@ -243,6 +246,9 @@ void NeighbourSearch::build(const double* x, int dim, Index nReal, Index nTotal,
 
 void NeighbourSearch::cellOrder(const double* x, int dim, Index n, double cellSize,
                                 std::vector<Index>& newToOld) {
+  if (!(cellSize > 0.0) || !std::isfinite(cellSize))
+    throw std::logic_error("neighbour search: cell size must be positive and finite, got " +
+                           std::to_string(cellSize));
   dispatchDimension(dim, [&](auto d) { sortIntoCells<decltype(d)::value>(x, n, cellSize); });
   newToOld.assign(sorted_.begin(), sorted_.end());
 }
