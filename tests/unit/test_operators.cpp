@@ -380,3 +380,26 @@ TEST(Operators, GhostNeighboursGiveTheSameResultAsRealOnes) {
     EXPECT_NEAR(intSplit[s], intFull[a], 1e-13);
   }
 }
+
+#ifdef _OPENMP
+#include <omp.h>
+TEST(Operators, ResultsIndependentOfThreadCount) {
+  // Gather form: each particle's sum runs in neighbour-list order whatever the thread count.
+  const ParticleBlock b = makeBlock(3, 7, 0.1, 0.0, 0.3);
+  const Kernel k(KernelType::CubicSpline, 3, 0.13);
+  const NeighbourList nl = buildNeighbours(b, k);
+  std::vector<double> u(3 * b.count());
+  for (size_t i = 0; i < u.size(); ++i) u[i] = std::sin(0.37 * static_cast<double>(i));
+  auto run = [&](int threads) {
+    const int saved = omp_get_max_threads();
+    omp_set_num_threads(threads);
+    CorrectionBuffer buf;
+    const SphGeometry g = makeGeometry(b, nl, k, correct(b, nl, k, Correction::Mixed, buf));
+    std::vector<double> gu(9 * b.count());
+    gradient<3>(g, DerivativeForm::Standard, u.data(), 3, gu.data());
+    omp_set_num_threads(saved);
+    return gu;
+  };
+  EXPECT_EQ(run(1), run(3));
+}
+#endif
