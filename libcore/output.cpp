@@ -155,6 +155,28 @@ std::string OutputWriter::writeSnapshot(const Simulation& sim) {
   writer->SetHeaderTypeToUInt64();
   if (writer->Write() != 1) throw std::runtime_error("cannot write snapshot '" + path + "'");
 
+  if (!pvdStarted_) {
+    // A restarted run continues the collection: keep the earlier entries (time < now) whose
+    // files still exist; a fresh run (time 0) drops them all.
+    pvdStarted_ = true;
+    std::ifstream old(fs::path(dir_) / "results.pvd");
+    std::string line;
+    while (std::getline(old, line)) {
+      const size_t ts = line.find("timestep=\""), fi = line.find("file=\"");
+      if (line.find("<DataSet") == std::string::npos || ts == std::string::npos ||
+          fi == std::string::npos)
+        continue;
+      const size_t tsEnd = line.find('"', ts + 10), fiEnd = line.find('"', fi + 6);
+      if (tsEnd == std::string::npos || fiEnd == std::string::npos) continue;
+      try {
+        const double t = std::stod(line.substr(ts + 10, tsEnd - ts - 10));
+        const std::string f = line.substr(fi + 6, fiEnd - fi - 6);
+        if (t < sim.time && f != rel && fs::exists(fs::path(dir_) / f))
+          snapshots_.emplace_back(t, f);
+      } catch (const std::exception&) {
+      }
+    }
+  }
   // a rewrite of the same step (e.g. final snapshot) replaces the entry
   if (!snapshots_.empty() && snapshots_.back().second == rel) snapshots_.pop_back();
   snapshots_.emplace_back(sim.time, rel);
@@ -188,10 +210,27 @@ void OutputWriter::appendTimeseries(const Simulation& sim) {
   std::ofstream f;
   if (columns_.empty()) {
     for (const auto& c : cols) columns_.push_back(c.first);
+    std::string header;
+    for (size_t k = 0; k < columns_.size(); ++k) header += (k ? "," : "") + columns_[k];
+    // A restarted run continues an existing file with the same header: rows with an earlier
+    // time are kept, later ones (written after the checkpoint) dropped.
+    std::vector<std::string> keep;
+    {
+      std::ifstream old(path);
+      std::string line;
+      if (std::getline(old, line) && line == header)
+        while (std::getline(old, line)) {
+          try {
+            if (!line.empty() && std::stod(line.substr(0, line.find(','))) < sim.time)
+              keep.push_back(line);
+          } catch (const std::exception&) {
+          }
+        }
+    }
     f.open(path, std::ios::trunc);
     if (!f) throw std::runtime_error("cannot write '" + path.string() + "'");
-    for (size_t k = 0; k < columns_.size(); ++k) f << (k ? "," : "") << columns_[k];
-    f << "\n";
+    f << header << "\n";
+    for (const auto& row : keep) f << row << "\n";
   } else {
     bool same = cols.size() == columns_.size();
     for (size_t k = 0; same && k < cols.size(); ++k) same = cols[k].first == columns_[k];

@@ -19,7 +19,9 @@ class Simulation;
 class OutputWriter {
  public:
   /// Creates <dir> and <dir>/snapshots if needed (InputError if that fails). Existing
-  /// results.pvd / timeseries.csv in <dir> are replaced by the first write.
+  /// results.pvd / timeseries.csv in <dir> are rewritten by the first write, keeping only their
+  /// entries/rows with a time earlier than the simulation's at that write: a fresh run (t = 0)
+  /// starts them anew, a run restarted from a checkpoint continues them.
   explicit OutputWriter(std::string dir);
 
   /// Writes <dir>/snapshots/step_XXXXXXXX.vtu (XXXXXXXX = sim.step) and rewrites results.pvd.
@@ -39,6 +41,7 @@ class OutputWriter {
   std::string dir_;
   std::vector<std::pair<double, std::string>> snapshots_;
   std::vector<std::string> columns_;
+  bool pvdStarted_ = false;
 };
 
 }  // namespace poresph

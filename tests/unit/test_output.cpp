@@ -234,6 +234,53 @@ TEST(Output, TimeseriesHeaderOnceThenRows) {
   EXPECT_THROW(out.appendTimeseries(*sim), std::runtime_error);
 }
 
+TEST(Output, RestartContinuesPvdAndCsvFreshRunReplacesThem) {
+  auto sim = makeStore(2, 3);
+  const std::string dir = freshDir("restart");
+  {
+    OutputWriter out(dir);
+    for (int k = 0; k <= 4; ++k) {  // t = 0, 0.1, ..., 0.4
+      sim->time = 0.1 * k;
+      sim->step = 10 * k;
+      out.writeSnapshot(*sim);
+      out.appendTimeseries(*sim);
+    }
+  }
+  auto countLines = [](const std::string& text, const std::string& what) {
+    size_t n = 0;
+    for (size_t p = text.find(what); p != std::string::npos; p = text.find(what, p + 1)) ++n;
+    return n;
+  };
+  {  // restart from the checkpoint at t = 0.2 (step 20): entries at t >= 0.2 are replaced
+    OutputWriter out(dir);
+    sim->time = 0.2;
+    sim->step = 20;
+    out.writeSnapshot(*sim);
+    out.appendTimeseries(*sim);
+    sim->time = 0.25;
+    sim->step = 25;
+    out.writeSnapshot(*sim);
+    out.appendTimeseries(*sim);
+    const std::string pvd = slurp(dir + "/results.pvd");
+    EXPECT_EQ(countLines(pvd, "<DataSet"), 4u);  // 0, 0.1, 0.2, 0.25
+    EXPECT_NE(pvd.find("step_00000010.vtu"), std::string::npos);
+    EXPECT_NE(pvd.find("step_00000025.vtu"), std::string::npos);
+    EXPECT_EQ(pvd.find("step_00000030.vtu"), std::string::npos);
+    const std::string csv = slurp(dir + "/timeseries.csv");
+    EXPECT_EQ(countLines(csv, "\n"), 5u);  // header + t = 0, 0.1, 0.2, 0.25
+    EXPECT_EQ(countLines(csv, "time,"), 1u);
+  }
+  {  // a fresh run in the same directory starts both anew
+    OutputWriter out(dir);
+    sim->time = 0.0;
+    sim->step = 0;
+    out.writeSnapshot(*sim);
+    out.appendTimeseries(*sim);
+    EXPECT_EQ(countLines(slurp(dir + "/results.pvd"), "<DataSet"), 1u);
+    EXPECT_EQ(countLines(slurp(dir + "/timeseries.csv"), "\n"), 2u);
+  }
+}
+
 TEST(Output, UnwritableDirectoryIsAnInputError) {
   const std::string file = freshDir("blocker");
   fs::create_directories(fs::path(file).parent_path());
