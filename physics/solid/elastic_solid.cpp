@@ -106,6 +106,13 @@ void ElasticSolidModule::configure(Simulation& sim, const std::vector<const Mate
     e.damping = p.real("damping", 0.0, Range::nonNegative());
     p.finish();
     lameParameters(e.young, e.poisson, dim, pl, e.lambda, e.mu);
+    if (form == Formulation::SmallStrainDisplacement && e.lambda > e.mu * (1.0 + 1e-12))
+      p.fail("poisson_ratio",
+             "the displacement-based form (Eqs. 2.89-2.90) is a sum of pair terms whose "
+             "transverse part (mu - lambda) u_ab turns anti-restoring when lambda > mu, and runs "
+             "blow up (measured: nu = 0.3 in plane strain diverges within 400 steps); it needs "
+             "nu <= 0.25 (3D, plane strain) or nu <= 1/3 (plane stress). Use formulation "
+             "small_strain_stress or total_lagrangian for this material");
     e.waveSpeed = std::sqrt((e.lambda + 2.0 * e.mu) / e.density);
     if (static_cast<size_t>(m->id) >= slot_.size()) slot_.resize(static_cast<size_t>(m->id) + 1, -1);
     slot_[static_cast<size_t>(m->id)] = static_cast<int>(mats_.size());

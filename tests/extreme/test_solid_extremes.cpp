@@ -1,0 +1,203 @@
+// Extremes of issue 4 for the elastic solid: large rigid rotation (TL gives zero stress; the
+// small-strain forms do not - documented), Poisson's ratio 0 and 0.49, h/dx from 1.0 to 2.5,
+// disordered particles, and blow-ups that stop with a message naming the particle and quantity.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "physics/solid/solid_scenes.hpp"
+
+using namespace poresph;
+using namespace poresph::solid;
+
+namespace {
+
+constexpr double kE = 1.0e9;
+
+std::unique_ptr<Simulation> block2D(const std::string& formulation, double nu, int n, double hOverDx,
+                                    double disorder = 0.0, unsigned seed = 1) {
+  const double dx = 0.01;
+  auto sim = std::make_unique<Simulation>(2);
+  addMaterial(*sim, "clay", "elastic",
+              "{density: 2000, young_modulus: 1.0e9, poisson_ratio: " + std::to_string(nu) +
+                  ", formulation: " + formulation + "}");
+  sim->spacing = dx;
+  sim->kernel = Kernel(KernelType::CubicSpline, 2, hOverDx * dx);
+  buildBlock<2>(*sim, Vec<2>::Zero(), {n, n, 1}, dx);
+  if (disorder > 0.0) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> U(-disorder * dx, disorder * dx);
+    double* x = sim->store.data(sim->store.position());
+    for (Index i = 0; i < 2 * sim->store.realCount(); ++i) x[i] += U(rng);
+  }
+  sim->domain.lo = {-dx, -dx, 0};
+  sim->domain.hi = {(n + 1) * dx, (n + 1) * dx, 1};
+  addSolidModule(*sim);
+  sim->module("solid")->initialise(*sim);
+  return sim;
+}
+
+// Max relative stress error of a uniform deformation x = X + G X against the closed form.
+double patchError(Simulation& sim, const std::string& f, double nu, const Mat<2>& G) {
+  ParticleStore& s = sim.store;
+  const RealField X = s.real("reference_position");
+  for (Index i = 0; i < s.realCount(); ++i) s.vec<2>(s.position(), i) = s.vec<2>(X, i) + G * s.vec<2>(X, i);
+  sim.evaluateRates();
+  double lambda, mu;
+  lameParameters(kE, nu, 2, Plane::Strain, lambda, mu);
+  const Mat<2> I = Mat<2>::Identity();
+  Mat<2> ref;
+  if (f == "total_lagrangian") {
+    const Mat<2> F = I + G, E = 0.5 * (F.transpose() * F - I);
+    ref = F * (lambda * E.trace() * I + 2 * mu * E) * F.transpose() / F.determinant();
+  } else {
+    const Mat<2> H = G * (I + G).inverse(), eps = 0.5 * (H + H.transpose());
+    ref = lambda * eps.trace() * I + 2 * mu * eps;
+  }
+  double err = 0.0;
+  for (Index i = 0; i < s.realCount(); ++i)
+    err = std::max(err, (s.mat<2>(s.real("stress"), i) - ref).norm() / ref.norm());
+  return err;
+}
+
+// Free vibration of a block from a smooth velocity field; returns max relative drift of the
+// energy balance and whether everything stayed finite.
+double vibrate(Simulation& sim, int steps, bool& finite) {
+  auto* solid = dynamic_cast<ElasticSolidModule*>(sim.module("solid"));
+  ParticleStore& s = sim.store;
+  for (Index i = 0; i < s.realCount(); ++i) {
+    const Vec<2> x = s.vec<2>(s.position(), i);
+    s.vec<2>(s.velocity(), i) = Vec<2>(std::sin(30 * x[1]), std::cos(25 * x[0])) * 0.01;
+  }
+  auto integrator = makeIntegrator("leapfrog");
+  const double dt = 0.3 * solid->elasticTimeStepLimit(sim);
+  double e0 = -1, drift = 0.0;
+  finite = true;
+  try {
+    for (int k = 0; k < steps; ++k) {
+      integrator->step(sim, dt);
+      sim.checkFinite();
+      const double e = solid->kineticEnergy(sim) + solid->elasticEnergy(sim);
+      if (e0 < 0) e0 = e;
+      drift = std::max(drift, std::abs(e - e0) / e0);
+    }
+  } catch (const NumericalError&) {
+    finite = false;
+  }
+  return drift;
+}
+
+}  // namespace
+
+TEST(SolidExtremes, LargeRigidRotation) {
+  const double theta = 60.0 * 3.14159265358979323846 / 180.0;
+  Mat<2> R;
+  R << std::cos(theta), -std::sin(theta), std::sin(theta), std::cos(theta);
+  for (const std::string f : {"total_lagrangian", "small_strain_stress", "small_strain_displacement"}) {
+    auto sim = block2D(f, 0.25, 10, 1.3);
+    ParticleStore& s = sim->store;
+    const RealField X = s.real("reference_position");
+    for (Index i = 0; i < s.realCount(); ++i) s.vec<2>(s.position(), i) = R * s.vec<2>(X, i);
+    sim->evaluateRates();
+    double worst = 0.0;
+    for (Index i = 0; i < s.realCount(); ++i)
+      worst = std::max(worst, s.mat<2>(s.real("stress"), i).norm() / kE);
+    std::printf("%s: max |sigma| / E after a 60 degree rigid rotation = %.3e\n", f.c_str(), worst);
+    if (f == "total_lagrangian") {
+      EXPECT_LT(worst, 1e-12);  // SVK is objective: a rotation is stress-free
+    } else {
+      // small strain reads R - 1 as a strain: sym(R - 1) = (cos theta - 1) 1, a spurious
+      // isotropic compression of order E (1 - cos theta)
+      EXPECT_GT(worst, 0.1);
+    }
+  }
+}
+
+TEST(SolidExtremes, PoissonRatioZeroAndNearlyIncompressible) {
+  const Mat<2> G = (Mat<2>() << 1e-3, 2e-4, -5e-4, 3e-4).finished();
+  for (const double nu : {0.0, 0.49})
+    for (const std::string f : {"total_lagrangian", "small_strain_stress", "small_strain_displacement"}) {
+      if (f == "small_strain_displacement" && nu > 0.25) {
+        // refused: pair-wise Navier terms are unstable for lambda > mu (docs/solid.md)
+        EXPECT_THROW(block2D(f, nu, 10, 1.3), InputError);
+        continue;
+      }
+      auto sim = block2D(f, nu, 10, 1.3);
+      EXPECT_LT(patchError(*sim, f, nu, G), 1e-9) << f << " nu = " << nu;
+      auto dyn = block2D(f, nu, 12, 1.3);
+      bool finite = false;
+      const double drift = vibrate(*dyn, 400, finite);
+      EXPECT_TRUE(finite) << f << " nu = " << nu;
+      // TL conserves sum 1/2 m v^2 + V0 psi(F); the small-strain forms work in the current
+      // configuration and their 1/2 sigma:eps is not the energy they conserve (the displacement
+      // form conserves a pair-spring energy), so only boundedness is asserted for them.
+      if (f == "total_lagrangian") EXPECT_LT(drift, 0.01) << f << " nu = " << nu;
+      else EXPECT_LT(drift, 0.5) << f << " nu = " << nu;
+      std::printf("%s nu = %.2f: energy drift over 400 steps %.2e\n", f.c_str(), nu, drift);
+    }
+}
+
+TEST(SolidExtremes, SmoothingLengthRange) {
+  const Mat<2> G = (Mat<2>() << 1e-3, 2e-4, -5e-4, 3e-4).finished();
+  for (const double hdx : {1.0, 1.5, 2.0, 2.5})
+    for (const std::string f : {"total_lagrangian", "small_strain_stress"}) {
+      auto sim = block2D(f, 0.25, 12, hdx);
+      EXPECT_LT(patchError(*sim, f, 0.25, G), 1e-9) << f << " h/dx = " << hdx;
+      auto dyn = block2D(f, 0.25, 12, hdx);
+      bool finite = false;
+      const double drift = vibrate(*dyn, 300, finite);
+      EXPECT_TRUE(finite) << f << " h/dx = " << hdx;
+      if (f == "total_lagrangian") EXPECT_LT(drift, 0.01) << " h/dx = " << hdx;
+      std::printf("%s h/dx = %.1f: energy drift %.2e\n", f.c_str(), hdx, drift);
+    }
+}
+
+TEST(SolidExtremes, DisorderedParticles) {
+  const Mat<2> G = (Mat<2>() << 1e-3, 2e-4, -5e-4, 3e-4).finished();
+  for (const std::string f : {"total_lagrangian", "small_strain_stress"}) {
+    auto sim = block2D(f, 0.3, 12, 1.5, 0.25);
+    EXPECT_LT(patchError(*sim, f, 0.3, G), 1e-8) << f;  // the correction keeps linear exactness
+    auto dyn = block2D(f, 0.3, 12, 1.5, 0.25, 7);
+    bool finite = false;
+    const double drift = vibrate(*dyn, 400, finite);
+    EXPECT_TRUE(finite) << f;
+    if (f == "total_lagrangian") EXPECT_LT(drift, 0.01);
+    std::printf("%s disordered (+-0.25 dx): energy drift %.2e\n", f.c_str(), drift);
+  }
+}
+
+TEST(SolidExtremes, InvertedParticleStopsWithItsName) {
+  auto sim = block2D("total_lagrangian", 0.3, 8, 1.3);
+  sim->evaluateRates();
+  // crush one particle through its neighbours
+  ParticleStore& s = sim->store;
+  s.vec<2>(s.velocity(), 27) = Vec<2>(-1.0e5, 0.0);
+  const std::int32_t id = s.data(s.id())[27];
+  auto integrator = makeIntegrator("leapfrog");
+  try {
+    for (int k = 0; k < 100; ++k) integrator->step(*sim, 1e-7);
+    FAIL() << "no error";
+  } catch (const NumericalError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("J = det F"), std::string::npos) << m;
+    EXPECT_NE(m.find("particle"), std::string::npos) << m;
+    (void)id;
+  }
+}
+
+TEST(SolidExtremes, NaNIsNamedByCheckFinite) {
+  auto sim = block2D("small_strain_stress", 0.3, 6, 1.3);
+  ParticleStore& s = sim->store;
+  s.vec<2>(s.velocity(), 5)[1] = std::nan("");
+  auto integrator = makeIntegrator("leapfrog");
+  try {
+    integrator->step(*sim, 1e-8);
+    sim->checkFinite();
+    FAIL() << "NaN not detected";
+  } catch (const NumericalError& e) {
+    const std::string m = e.what();
+    std::printf("%s\n", m.c_str());
+    EXPECT_NE(m.find("particle"), std::string::npos) << m;
+  }
+}
