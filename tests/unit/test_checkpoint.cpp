@@ -101,6 +101,18 @@ TEST(Checkpoint, RoundTripIsBitExact) {
   }
 }
 
+TEST(Checkpoint, EmptyStoreRoundTrip) {
+  auto a = makeSim(2);
+  fill(*a, 0, 1);
+  const std::string file = path("empty.h5");
+  writeCheckpoint(*a, file);
+  auto b = makeSim(2);
+  fill(*b, 7, 2);
+  readCheckpoint(*b, file);
+  EXPECT_EQ(b->store.realCount(), 0);
+  EXPECT_EQ(b->step, a->step);
+}
+
 TEST(Checkpoint, NonCheckpointFieldsAreNotWritten) {
   auto a = makeSim(2);
   fill(*a, 5, 1);

@@ -157,6 +157,13 @@ TEST_P(OutputDim, SnapshotRoundTripThroughVtkReader) {
 
 INSTANTIATE_TEST_SUITE_P(Dimensions, OutputDim, ::testing::Values(1, 2, 3));
 
+TEST(Output, EmptyStoreGivesAValidEmptySnapshot) {
+  auto sim = makeStore(3, 0);
+  OutputWriter out(freshDir("empty"));
+  const std::string file = out.writeSnapshot(*sim);
+  compareSnapshot(*sim, file);
+}
+
 TEST(Output, GhostsAreNotWritten) {
   auto sim = makeStore(2, 10);
   sim->store.addGhosts({0, 1}, {1.0, 0.0, 1.0, 0.0});
