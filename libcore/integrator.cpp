@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
 
 #include "libcore/simulation.hpp"
 
@@ -51,6 +52,11 @@ void Integrator::bindScratch(Simulation& sim) {
   boundIntegrated_.clear();
   for (const auto& f : sim.integrated) {
     const FieldSpec& spec = s.spec(f.value.id);
+    if (s.components(f.rate.id) != spec.components)
+      throw std::logic_error("integrated field '" + spec.name + "' has " +
+                             std::to_string(spec.components) + " components but its rate '" +
+                             s.spec(f.rate.id).name + "' has " +
+                             std::to_string(s.components(f.rate.id)));
     scratchF_.push_back(s.addReal(spec.name + "@integrator", spec.components, kFieldNone,
                                   "integrator"));
     boundIntegrated_.push_back(f.value.id);
