@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 namespace poresph {
@@ -122,6 +123,10 @@ void NeighbourSearch::buildDim(const double* x, Index nReal, Index nTotal, doubl
   out.offset.resize(static_cast<size_t>(nReal) + 1);
   std::vector<std::int64_t>& chunkBegin = chunkBegin_;
   chunkBegin.assign(static_cast<size_t>(nThreads) + 1, 0);
+  regionBegin_.assign(static_cast<size_t>(nThreads) + 1, 0);
+  regionUsed_.assign(static_cast<size_t>(nThreads), 0);
+  if (prevChunk_.size() < static_cast<size_t>(nThreads)) prevChunk_.resize(static_cast<size_t>(nThreads), 0);
+  bool anyOverflow = false;
   auto cellIndex = [&](double v, int a) {
     const double f = (v - origin_[a]) * invCell_;
     if (!(f >= 0.0)) return 0;  // also catches -inf
@@ -142,7 +147,25 @@ void NeighbourSearch::buildDim(const double* x, Index nReal, Index nTotal, doubl
     auto& idx = threadIndex_[static_cast<size_t>(t)];
     auto& cnt = threadCount_[static_cast<size_t>(t)];
     cnt.clear();
-    std::size_t used = 0;  // entries of idx in use (idx is grown, never shrunk)
+#pragma omp single
+    {
+      // Regions of the output, one per thread, from the chunk lengths of the previous build.
+      std::int64_t prevTotal = 0;
+      for (int k = 0; k < prevThreads_; ++k) prevTotal += prevChunk_[static_cast<size_t>(k)];
+      for (int k = 0; k < nt; ++k) {
+        const std::int64_t est =
+            prevThreads_ == nt ? prevChunk_[static_cast<size_t>(k)] : prevTotal / nt;
+        regionBegin_[static_cast<size_t>(k) + 1] = regionBegin_[static_cast<size_t>(k)] + est + est / 8 + 1024;
+      }
+      out.index.resize(static_cast<size_t>(regionBegin_[static_cast<size_t>(nt)]));
+    }  // implicit barrier
+    std::uint32_t* dst = out.index.data() + regionBegin_[static_cast<size_t>(t)];
+    std::size_t cap = static_cast<std::size_t>(regionBegin_[static_cast<size_t>(t) + 1] -
+                                               regionBegin_[static_cast<size_t>(t)]);
+    bool inRegion = true;
+    std::size_t regionUsed = 0;
+    std::size_t used = 0;  // entries written at dst (region first, then the overflow buffer)
+    std::size_t total = 0; // entries of this thread so far, region + overflow
     // Per-particle squared gaps to the rows of cells along y and z (at most a few cells each).
     constexpr int kMaxSpan = 64;
     double gy2[kMaxSpan], gz2[kMaxSpan];
@@ -150,7 +173,6 @@ void NeighbourSearch::buildDim(const double* x, Index nReal, Index nTotal, doubl
     const double ox = origin_[0];
     for (Index i = i0; i < i1; ++i) {
       const double* xi = x + i * D;
-      const std::size_t before = used;
       int zlo = 0, zhi = 0, ylo = 0, yhi = 0;
       if (D > 2) {
         zlo = cellIndex(xi[D - 1] - radius, D - 1), zhi = cellIndex(xi[D - 1] + radius, D - 1);
@@ -172,17 +194,25 @@ void NeighbourSearch::buildDim(const double* x, Index nReal, Index nTotal, doubl
       } else {
         gy2[0] = 0.0;
       }
-      // Capacity for every candidate of this particle: all particles of the block of cells.
+      // Room for every candidate of this particle: all particles of the block of cells.
       {
         const Index first = cellStart[(static_cast<Index>(zlo) * dimsY + ylo) * dimsX];
         const Index last = cellStart[(static_cast<Index>(zhi) * dimsY + yhi) * dimsX + dimsX];
-        if (idx.size() < used + static_cast<std::size_t>(last - first))
-          // Grow by a quarter (not doubling): the buffers live as long as the search and hold
-          // the whole list, so slack costs real memory at 1e6+ particles.
-          idx.resize(std::max(idx.size() + idx.size() / 4,
-                              used + static_cast<std::size_t>(last - first) + 4096));
+        const std::size_t need = static_cast<std::size_t>(last - first);
+        if (inRegion && used + need > cap) {  // region full: continue in the overflow buffer
+          inRegion = false;
+          regionUsed = used;
+          used = 0;
+          cap = 0;
+        }
+        if (!inRegion && cap < used + need) {
+          // Grow by a quarter (not doubling): slack costs real memory at 1e6+ particles.
+          idx.resize(std::max(idx.size() + idx.size() / 4, used + need + 4096));
+          cap = idx.size();
+        }
+        if (!inRegion) dst = idx.data();
       }
-      std::uint32_t* dst = idx.data();
+      const std::size_t start = used;
       const double xi0 = xi[0];
       for (int cz = zlo; cz <= zhi; ++cz) {
         const double gzz = gz2[cz - zlo];
@@ -212,22 +242,57 @@ void NeighbourSearch::buildDim(const double* x, Index nReal, Index nTotal, doubl
           }
         }
       }
-      cnt.push_back(static_cast<std::int64_t>(used - before));
+      cnt.push_back(static_cast<std::int64_t>(used - start));
+      total += used - start;
     }
-    chunkBegin[static_cast<size_t>(t) + 1] = static_cast<std::int64_t>(used);
+    if (inRegion) regionUsed = used;
+    regionUsed_[static_cast<size_t>(t)] = static_cast<std::int64_t>(regionUsed);
+    chunkBegin[static_cast<size_t>(t) + 1] = static_cast<std::int64_t>(total);
+    prevChunk_[static_cast<size_t>(t)] = static_cast<std::int64_t>(total);
+    if (!inRegion) {
+#pragma omp atomic write
+      anyOverflow = true;
+    }
 #pragma omp barrier
 #pragma omp single
     {
       for (int k = 0; k < nt; ++k) chunkBegin[static_cast<size_t>(k) + 1] += chunkBegin[static_cast<size_t>(k)];
-      out.index.resize(static_cast<size_t>(chunkBegin[static_cast<size_t>(nt)]));
+      const std::size_t n = static_cast<std::size_t>(chunkBegin[static_cast<size_t>(nt)]);
+      if (!anyOverflow) {
+        // Every chunk fits its region, so chunk k moves left (or stays): in increasing k the
+        // moves never overwrite data not yet moved.
+        std::uint32_t* base = out.index.data();
+        for (int k = 1; k < nt; ++k)
+          std::memmove(base + chunkBegin[static_cast<size_t>(k)], base + regionBegin_[static_cast<size_t>(k)],
+                       sizeof(std::uint32_t) * static_cast<std::size_t>(regionUsed_[static_cast<size_t>(k)]));
+        out.index.resize(n);
+      } else {
+        // The list grew: assemble it in a new array (allocates; only when the list grows).
+        std::vector<std::uint32_t> fresh;
+        // Room for the regions of the next build (chunk + 1/8 + 1024 each), so that a steady
+        // list does not reallocate again.
+        fresh.reserve(n + n / 8 + 1024 * static_cast<std::size_t>(nt));
+        fresh.resize(n);
+        for (int k = 0; k < nt; ++k) {
+          const std::uint32_t* region = out.index.data() + regionBegin_[static_cast<size_t>(k)];
+          const std::size_t ru = static_cast<std::size_t>(regionUsed_[static_cast<size_t>(k)]);
+          const std::size_t len = static_cast<std::size_t>(chunkBegin[static_cast<size_t>(k) + 1] -
+                                                           chunkBegin[static_cast<size_t>(k)]);
+          std::uint32_t* to = fresh.data() + chunkBegin[static_cast<size_t>(k)];
+          std::copy(region, region + ru, to);
+          const auto& over = threadIndex_[static_cast<size_t>(k)];
+          std::copy(over.begin(), over.begin() + static_cast<std::ptrdiff_t>(len - ru), to + ru);
+        }
+        out.index.swap(fresh);
+        for (int k = 0; k < nt; ++k) std::vector<std::uint32_t>().swap(threadIndex_[static_cast<size_t>(k)]);
+      }
+      prevThreads_ = nt;
     }
     std::int64_t o = chunkBegin[static_cast<size_t>(t)];
     for (Index i = i0; i < i1; ++i) {
       out.offset[static_cast<size_t>(i)] = o;
       o += cnt[static_cast<size_t>(i - i0)];
     }
-    std::copy(idx.begin(), idx.begin() + static_cast<std::ptrdiff_t>(used),
-              out.index.begin() + chunkBegin[static_cast<size_t>(t)]);
   }
   out.offset[static_cast<size_t>(nReal)] = static_cast<std::int64_t>(out.index.size());
 }
@@ -256,7 +321,9 @@ void NeighbourSearch::cellOrder(const double* x, int dim, Index n, double cellSi
 std::size_t NeighbourSearch::bytes() const {
   std::size_t b = (cellOf_.capacity() + cellStart_.capacity() + sorted_.capacity() +
                    cursor_.capacity()) * sizeof(Index) +
-                  xs_.capacity() * sizeof(double) + chunkBegin_.capacity() * sizeof(std::int64_t);
+                  xs_.capacity() * sizeof(double) +
+                  (chunkBegin_.capacity() + regionBegin_.capacity() + regionUsed_.capacity() +
+                   prevChunk_.capacity()) * sizeof(std::int64_t);
   for (const auto& v : threadIndex_) b += v.capacity() * sizeof(std::uint32_t);
   for (const auto& v : threadCount_) b += v.capacity() * sizeof(std::int64_t);
   return b;

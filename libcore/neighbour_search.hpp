@@ -59,6 +59,13 @@ class NeighbourSearch {
   std::vector<double> xs_;  // positions in cell order (contiguous candidates)
   double margin_ = 0.0;     // round-off guard of the row pruning (absolute, metres)
   std::vector<std::int64_t> chunkBegin_;
+  // In-place CSR fill: each thread writes into its own region of the output, sized from its
+  // chunk length in the previous build (+1/8); a thread that overflows continues in its
+  // threadIndex_ buffer, which is released after the build (only a growing list allocates).
+  std::vector<std::int64_t> regionBegin_;
+  std::vector<std::int64_t> regionUsed_;
+  std::vector<std::int64_t> prevChunk_;
+  int prevThreads_ = 0;
   std::vector<std::vector<std::uint32_t>> threadIndex_;
   std::vector<std::vector<std::int64_t>> threadCount_;
 };

@@ -409,3 +409,40 @@ TEST(NeighbourSearch, BadArguments) {
   EXPECT_EQ(list.realCount(), 0);
   EXPECT_EQ(list.pairCount(), 0);
 }
+
+TEST(NeighbourSearch, RepeatedBuildsMatchAFreshSearchAndStopAllocating) {
+  // The search writes the list in place, one region per thread sized from the previous build;
+  // a growing list falls back to per-thread buffers. Whatever the path, every build must equal
+  // the build of a fresh search object, and a steady cloud must not reallocate the list.
+  const Domain dom = makeDomain(3, {0, 0, 0}, {1, 0.8, 0.6}, {false, false, false});
+  std::vector<double> x = randomCloud(3, 4000, dom, 91);
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> jitter(0.0, 0.01);
+  NeighbourSearch search;
+  NeighbourList list;
+  const int before = omp_get_max_threads();
+  for (int round = 0; round < 12; ++round) {
+    omp_set_num_threads(round < 6 ? 2 : 3);
+    // Rounds 0-3 move the particles (the list length changes), later rounds clump them
+    // (the list grows: overflow path) or keep them (steady state).
+    if (round < 4)
+      for (auto& v : x) v += jitter(rng);
+    if (round == 4 || round == 8)
+      for (auto& v : x) v *= 0.8;
+    search.build(x.data(), 3, 4000, 4000, 0.08, list);
+    NeighbourSearch fresh;
+    NeighbourList ref;
+    fresh.build(x.data(), 3, 4000, 4000, 0.08, ref);
+    ASSERT_EQ(list.offset, ref.offset) << "round " << round;
+    ASSERT_EQ(list.index, ref.index) << "round " << round;
+    if (round == 5 || round == 10) {  // steady state from here: same cloud, same threads
+      const std::uint32_t* p = list.index.data();
+      const std::size_t bytes = search.bytes() + list.bytes();
+      search.build(x.data(), 3, 4000, 4000, 0.08, list);
+      EXPECT_EQ(list.index.data(), p) << "the list was reallocated in the steady state";
+      EXPECT_EQ(search.bytes() + list.bytes(), bytes);
+      EXPECT_EQ(list.index, ref.index);
+    }
+  }
+  omp_set_num_threads(before);
+}
