@@ -127,8 +127,9 @@ void ElasticSolidModule::configure(Simulation& sim, const std::vector<const Mate
       for (const ParameterSet& b : section->sectionList("boundaries")) {
         Boundary bc;
         const std::string t = b.choice(
-            "type", {"clamped", "velocity", "displacement", "traction", "pressure"});
+            "type", {"clamped", "velocity", "displacement", "traction", "pressure", "symmetry"});
         bc.type = t == "clamped" ? BoundaryType::Clamped
+                  : t == "symmetry" ? BoundaryType::Symmetry
                   : t == "velocity" ? BoundaryType::Velocity
                   : t == "displacement" ? BoundaryType::Displacement
                   : t == "traction" ? BoundaryType::Traction
@@ -151,9 +152,18 @@ void ElasticSolidModule::configure(Simulation& sim, const std::vector<const Mate
             if (m.name == mn) bc.material = m.id;
           if (bc.material < 0) b.fail("material", "no material of that name in the scene");
         }
-        if (!bc.hasBox && bc.material < 0)
-          b.fail("type", "a boundary needs a 'box' {min, max} and/or a 'material' to select its "
-                         "particles");
+        if (b.has("shell")) {
+          const ParameterSet sh = b.section("shell");
+          const auto c = sh.reals("centre", static_cast<size_t>(dim));
+          bc.shellMin = sh.real("r_min", Range::nonNegative());
+          bc.shellMax = sh.real("r_max", Range::positive());
+          sh.finish();
+          bc.hasShell = true;
+          for (int a = 0; a < dim; ++a) bc.shellCentre[static_cast<size_t>(a)] = c[static_cast<size_t>(a)];
+        }
+        if (!bc.hasBox && !bc.hasShell && bc.material < 0)
+          b.fail("type", "a boundary needs a 'box' {min, max}, a 'shell' {centre, r_min, r_max} "
+                         "and/or a 'material' to select its particles");
         auto vec = [&](const std::string& key) {
           const auto v = b.reals(key, static_cast<size_t>(dim));
           for (int a = 0; a < dim; ++a) bc.value[static_cast<size_t>(a)] = v[static_cast<size_t>(a)];
@@ -166,10 +176,15 @@ void ElasticSolidModule::configure(Simulation& sim, const std::vector<const Mate
         if (bc.type == BoundaryType::Displacement && !(bc.rampTime > 0.0))
           b.fail("ramp_time", "an imposed displacement needs ramp_time > 0 (the velocity is "
                               "displacement / ramp_time during the ramp)");
-        if (b.has("area")) bc.area = b.real("area", Range::positive());
+        if (b.has("area")) {
+          if (bc.type != BoundaryType::Traction)
+            b.fail("area", "only traction boundaries take an area per particle (pressure areas "
+                           "come from the kernel)");
+          bc.area = b.real("area", Range::positive());
+        }
         if (b.has("mirror")) {
-          if (bc.type != BoundaryType::Clamped)
-            b.fail("mirror", "a mirror layer is a clamped boundary (type: clamped)");
+          if (bc.type != BoundaryType::Clamped && bc.type != BoundaryType::Symmetry)
+            b.fail("mirror", "a mirror layer is a clamped or symmetry boundary");
           const ParameterSet mp = b.section("mirror");
           const auto pt = mp.reals("point", static_cast<size_t>(dim));
           const auto nr = mp.reals("normal", static_cast<size_t>(dim));
@@ -184,6 +199,8 @@ void ElasticSolidModule::configure(Simulation& sim, const std::vector<const Mate
           }
           anyMirror_ = true;
         }
+        if (bc.type == BoundaryType::Symmetry && !bc.mirror)
+          b.fail("type", "a symmetry boundary needs its plane: mirror: {point: [..], normal: [..]}");
         b.finish();
         boundaries_.push_back(bc);
         ++k;
@@ -294,12 +311,21 @@ void ElasticSolidModule::initialiseDim(Simulation& sim) {
           if (X[i * D + a] < B.boxMin[static_cast<size_t>(a)] ||
               X[i * D + a] > B.boxMax[static_cast<size_t>(a)])
             in = false;
+      if (B.hasShell) {
+        double r2 = 0.0;
+        for (int a = 0; a < D; ++a) {
+          const double d = X[i * D + a] - B.shellCentre[static_cast<size_t>(a)];
+          r2 += d * d;
+        }
+        const double r = std::sqrt(r2);
+        if (r < B.shellMin || r > B.shellMax) in = false;
+      }
       if (in) bc[i] = static_cast<std::int32_t>(b + 1);
     }
     if (bc[i] > 0) {
       const Boundary& B = boundaries_[static_cast<size_t>(bc[i] - 1)];
-      if (B.type == BoundaryType::Clamped) {
-        motion[i] = kMotionFixed;
+      if (B.type == BoundaryType::Clamped || B.type == BoundaryType::Symmetry) {
+        motion[i] = kMotionFixed;  // driven by the module (mirror images) or at rest
         for (int a = 0; a < D; ++a) v[i * D + a] = 0.0;
       } else if (B.type == BoundaryType::Velocity || B.type == BoundaryType::Displacement) {
         motion[i] = kMotionPrescribed;
@@ -327,8 +353,9 @@ void ElasticSolidModule::initialiseDim(Simulation& sim) {
   if (anyMirror_) {
     std::int32_t* src = s.data(mirror_);
     const std::int32_t* ids = s.data(s.id());
+    std::vector<Index> srcIndex(static_cast<size_t>(n), -1);
+    for (Index i : mine) src[i] = 0;
     for (Index i : mine) {
-      src[i] = 0;
       if (bc[i] == 0) continue;
       const Boundary& B = boundaries_[static_cast<size_t>(bc[i] - 1)];
       if (!B.mirror) continue;
@@ -341,7 +368,7 @@ void ElasticSolidModule::initialiseDim(Simulation& sim) {
       double best = std::numeric_limits<double>::infinity();
       Index arg = -1;
       for (Index j : mine) {
-        if (bc[j] != 0) continue;
+        if (bc[j] == bc[i]) continue;  // another set may be the image (corners of two planes)
         const double d2 = (Eigen::Map<const Vec<D>>(X + j * D) - Xr).squaredNorm();
         if (d2 < best) { best = d2; arg = j; }
       }
@@ -353,6 +380,13 @@ void ElasticSolidModule::initialiseDim(Simulation& sim) {
         throw InputError(msg.str());
       }
       src[i] = ids[arg] + 1;
+      srcIndex[static_cast<size_t>(i)] = arg;
+    }
+    for (Index i : mine) {
+      const Index j = srcIndex[static_cast<size_t>(i)];
+      if (j >= 0 && src[j] > 0 && src[srcIndex[static_cast<size_t>(j)]] > 0)
+        throw InputError("solid module: mirror layers chained more than twice (the image of an "
+                         "image of a layer particle is again a layer particle)");
     }
     // A layer thinner than twice the support leaves the layer particles next to the body with a
     // truncated support: the images are then not exact and energy is not conserved.
@@ -407,10 +441,12 @@ void ElasticSolidModule::initialiseDim(Simulation& sim) {
         const Vec<D> r = Xi - Eigen::Map<const Vec<D>>(X + j * D);
         g += volume(j) * W.gradient<D>(r);
       }
-      if (!(g.norm() > 0.0))
-        throw InputError("solid module: pressure boundary '" + B.label +
-                         "' has a particle with no outward normal (interior particle?)");
-      force = B.pressure * area * g.normalized();  // -p A n_out, n_out = -g/|g|
+      // -p A n. S = sum_b V_b W_ab (Shepard sum) and sum_a V_a grad S_a ~ int_body grad S dV =
+      // oint S n dA = (1/2) A n: S is one half on a plane surface (half of the kernel's mass is
+      // outside). Hence the area vector of a particle is A_a n_a = -2 V_a grad S_a, and the
+      // particles within one support of the surface share the surface's area smoothly (a
+      // one-layer selection on a curved lattice is ragged: +-5 % in its total area).
+      force = 2.0 * B.pressure * volume(i) * g;
     }
     for (int a = 0; a < D; ++a) f[i * D + a] = force[a];
   }
@@ -503,14 +539,31 @@ void ElasticSolidModule::applyMirrors(Simulation& sim) {
   double* v = s.data(s.velocity());
   double* x = s.data(s.position());
   const double* X = s.data(refPos_);
+  const std::int32_t* bc = s.data(bc_);
+  // pass 0: images that are body particles; pass 1: images that are themselves layer particles
+  // (corners where two planes meet)
+  for (int pass = 0; pass < 2; ++pass) {
 #pragma omp parallel for schedule(static)
-  for (Index i = 0; i < n; ++i) {
-    if (src[i] <= 0) continue;
-    const Index j = idToIndex_[static_cast<size_t>(src[i] - 1)];
-    for (int a = 0; a < D; ++a) {  // odd reflection: u(layer) = -u(image), v likewise
-      u[i * D + a] = -u[j * D + a];
-      v[i * D + a] = -v[j * D + a];
-      x[i * D + a] = X[i * D + a] + u[i * D + a];
+    for (Index i = 0; i < n; ++i) {
+      if (src[i] <= 0) continue;
+      const Index j = idToIndex_[static_cast<size_t>(src[i] - 1)];
+      if ((src[j] > 0) != (pass == 1)) continue;
+      const Boundary& B = boundaries_[static_cast<size_t>(bc[i] - 1)];
+      Vec<D> uj = Eigen::Map<const Vec<D>>(u + j * D), vj = Eigen::Map<const Vec<D>>(v + j * D);
+      if (B.type == BoundaryType::Symmetry) {  // even reflection: R = 1 - 2 n n
+        Vec<D> nrm;
+        for (int a = 0; a < D; ++a) nrm[a] = B.mirrorNormal[static_cast<size_t>(a)];
+        uj -= 2.0 * uj.dot(nrm) * nrm;
+        vj -= 2.0 * vj.dot(nrm) * nrm;
+      } else {  // clamp: odd reflection u(layer) = -u(image)
+        uj = -uj;
+        vj = -vj;
+      }
+      for (int a = 0; a < D; ++a) {
+        u[i * D + a] = uj[a];
+        v[i * D + a] = vj[a];
+        x[i * D + a] = X[i * D + a] + uj[a];
+      }
     }
   }
 }
@@ -857,7 +910,7 @@ void ElasticSolidModule::constraintsDim(Simulation& sim) {
   for (Index i = 0; i < n; ++i) {
     if (bc[i] <= 0 || slotOf(mat[i]) < 0) continue;
     const Boundary& B = boundaries_[static_cast<size_t>(bc[i] - 1)];
-    if (B.type == BoundaryType::Clamped) {
+    if (B.type == BoundaryType::Clamped || B.type == BoundaryType::Symmetry) {
       for (int c = 0; c < D; ++c) {
         acc[i * D + c] = 0.0;
         if (!B.mirror) v[i * D + c] = 0.0;

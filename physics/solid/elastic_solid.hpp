@@ -59,7 +59,7 @@ struct ElasticMaterial {
 /// 2 mu = E so that sigma = E eps.
 void lameParameters(double E, double nu, int dim, Plane plane, double& lambda, double& mu);
 
-enum class BoundaryType { Clamped, Velocity, Displacement, Traction, Pressure };
+enum class BoundaryType { Clamped, Velocity, Displacement, Traction, Pressure, Symmetry };
 
 struct Boundary {
   BoundaryType type = BoundaryType::Clamped;
@@ -68,10 +68,13 @@ struct Boundary {
   bool hasBox = false;
   std::array<double, 3> boxMin{0, 0, 0}, boxMax{0, 0, 0};
   int material = -1;
+  bool hasShell = false;  ///< selection |X - centre| in [rMin, rMax]
+  std::array<double, 3> shellCentre{0, 0, 0};
+  double shellMin = 0.0, shellMax = 0.0;
   std::array<double, 3> value{0, 0, 0};  ///< velocity, displacement or traction vector
   double pressure = 0.0;
   double rampTime = 0.0;  ///< linear ramp 0 -> value over rampTime (0: applied at once)
-  double area = 0.0;      ///< area per particle [m^(D-1)]; 0: spacing^(D-1)
+  double area = 0.0;      ///< traction: area per particle [m^(D-1)]; 0: spacing^(D-1)
   /// Clamped only: mirror (ghost) layer, thesis Sec. 2.6: each particle of the layer takes the
   /// displacement and velocity of its mirror image across the plane, negated (odd reflection),
   /// so that u = 0 on the plane exactly and the displacement field stays smooth across it.
