@@ -1,0 +1,544 @@
+#include "physics/fluid/fluid_module.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <sstream>
+
+#include "libcore/phases.hpp"
+#include "libcore/simulation.hpp"
+
+namespace poresph {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+}
+
+// ---------------------------------------------------------------------------------------------
+// configuration
+
+void FluidModule::configure(Simulation& sim, const std::vector<const Material*>& materials,
+                            const ParameterSet* section) {
+  dim_ = sim.dimension();
+  const int d = dim_;
+  int maxId = 0;
+  for (const auto& m : sim.materials) maxId = std::max(maxId, m.id);
+  for (const Material* m : materials) maxId = std::max(maxId, m->id);
+  mat_.assign(static_cast<size_t>(maxId + 1), MaterialData{});
+  maxSoundSpeed_ = 0.0;
+  minNu_ = std::numeric_limits<double>::infinity();
+  minRho0_ = std::numeric_limits<double>::infinity();
+  for (const Material* m : materials) {
+    MaterialData& md = mat_[static_cast<size_t>(m->id)];
+    md.owned = true;
+    const ParameterSet& p = m->parameters;
+    if (m->model == "fluid") {
+      md.fluid = true;
+      md.rho0 = p.real("density", Range::positive());
+      md.soundSpeed = p.real("sound_speed", Range::positive());
+      md.viscosity = p.real("viscosity", Range::nonNegative());
+      md.eos = p.choice("eos", "linear", {"linear", "tait"}) == "tait" ? Eos::Tait : Eos::Linear;
+      md.taitGamma = p.real("tait_gamma", 7.0, Range{1.0, 20.0, false, false});
+      md.backgroundPressure = p.real("background_pressure", 0.0, Range::any());
+      md.colour = p.real("colour", 1.0, Range::closed(-1.0, 1.0));
+      maxSoundSpeed_ = std::max(maxSoundSpeed_, md.soundSpeed);
+      if (md.viscosity > 0.0) minNu_ = std::min(minNu_, md.viscosity / md.rho0);
+      minRho0_ = std::min(minRho0_, md.rho0);
+    } else if (m->model == "wall") {
+      md.fluid = false;
+      md.rho0 = p.real("density", Range::positive());
+      const double theta = p.real("contact_angle", 90.0, Range::closed(0.0, 180.0));
+      md.colour = std::cos(theta * kPi / 180.0);  // Eq. 1.10
+      md.wallVelocity = p.has("velocity") ? p.reals("velocity", static_cast<size_t>(d))
+                                          : std::vector<double>(static_cast<size_t>(d), 0.0);
+    } else {
+      p.fail("model", "is not a model of the fluid module (fluid, wall)");
+    }
+    p.finish();
+  }
+
+  gravity_.assign(static_cast<size_t>(d), 0.0);
+  bodyForces_.clear();
+  if (section) {
+    const ParameterSet& s = *section;
+    if (s.has("gravity")) gravity_ = s.reals("gravity", static_cast<size_t>(d));
+    if (s.has("body_forces")) {
+      for (const ParameterSet& b : s.sectionList("body_forces")) {
+        BodyForce f;
+        f.acceleration = b.reals("acceleration", static_cast<size_t>(d));
+        f.lo = b.has("region_min") ? b.reals("region_min", static_cast<size_t>(d))
+                                   : std::vector<double>(static_cast<size_t>(d), -1e300);
+        f.hi = b.has("region_max") ? b.reals("region_max", static_cast<size_t>(d))
+                                   : std::vector<double>(static_cast<size_t>(d), 1e300);
+        for (int a = 0; a < d; ++a)
+          if (!(f.lo[static_cast<size_t>(a)] < f.hi[static_cast<size_t>(a)]))
+            b.fail("region_max", "must be larger than region_min along every axis");
+        b.finish();
+        bodyForces_.push_back(f);
+      }
+    }
+    summation_ = s.choice("density", "continuity", {"continuity", "summation"}) == "summation";
+    pressureForm_ = s.choice("pressure_gradient", "symmetric", {"symmetric", "hu_adams"}) ==
+                            "hu_adams"
+                        ? PressureForm::HuAdams
+                        : PressureForm::Symmetric;
+    harmonicMean_ =
+        s.choice("viscosity_mean", "harmonic", {"harmonic", "arithmetic"}) == "harmonic";
+    gamma_ = s.real("surface_tension", 0.0, Range::nonNegative());
+    densityWeightedCsf_ =
+        s.choice("surface_tension_weighting", "density", {"density", "none"}) == "density";
+    normalThreshold_ = s.real("normal_threshold", 0.05, Range::closed(0.0, 1.0));
+    wallWetting_ = s.boolean("wall_wetting", true);
+    densityDiffusion_ = s.real("density_diffusion", 0.0, Range::closed(0.0, 1.0));
+    artificialViscosity_ = s.real("artificial_viscosity", 0.0, Range::closed(0.0, 10.0));
+    densityBound_ = s.real("density_variation_bound", 0.03, Range{0.0, 1.0, true, false});
+    cflAcoustic_ = s.real("cfl_acoustic", 0.25, Range{0.0, 1.0, true, false});
+    cflViscous_ = s.real("cfl_viscous", 0.125, Range{0.0, 1.0, true, false});
+    cflForce_ = s.real("cfl_force", 0.25, Range{0.0, 1.0, true, false});
+    cflSurface_ = s.real("cfl_surface_tension", 0.25, Range{0.0, 1.0, true, false});
+    if (s.has("hydrostatic_level")) {
+      hydrostaticInit_ = true;
+      hydrostaticLevel_ = s.real("hydrostatic_level");
+    }
+    s.finish();
+  }
+
+  // fields (produce = register-if-absent)
+  auto& st = sim.store;
+  pressure = st.addReal("pressure", 1, kFieldDefault, "fluid");
+  densityRate = st.addReal("density_rate", 1, kFieldNone, "fluid");
+  colour = st.addReal("colour", 1, kFieldDefault, "fluid");
+  colourGradient = st.addReal("colour_gradient", d, kFieldOutput | kFieldToGhosts, "fluid");
+  curvature = st.addReal("curvature", 1, kFieldOutput, "fluid");
+  wallVelocity = st.addReal("wall_velocity", d, kFieldToGhosts, "fluid");
+  interface = st.addInt("interface", 1, kFieldOutput, "fluid");
+  if (!summation_) sim.addIntegrated(st.density(), densityRate, true);
+}
+
+void FluidModule::initialise(Simulation& sim) {
+  auto& st = sim.store;
+  const int d = dim_;
+  const Index n = st.realCount();
+  double* rho = st.data(st.density());
+  double* m = st.data(st.mass());
+  double* v = st.data(st.velocity());
+  const double* x = st.data(st.position());
+  double* col = st.data(colour);
+  double* p = st.data(pressure);
+  std::int32_t* ph = st.data(st.phase());
+  std::int32_t* mo = st.data(sim.motion);
+  const std::int32_t* mt = st.data(st.material());
+  double cellVolume = 1.0;
+  for (int a = 0; a < d; ++a) cellVolume *= sim.spacing;
+  double gNorm = 0.0;
+  for (double g : gravity_) gNorm += g * g;
+  gNorm = std::sqrt(gNorm);
+  for (Index i = 0; i < n; ++i) {
+    const int id = mt[i];
+    if (id < 0 || id >= static_cast<int>(mat_.size())) continue;
+    const MaterialData& md = mat_[static_cast<size_t>(id)];
+    if (!md.owned) continue;
+    if (md.fluid) {
+      ph[i] = kPhaseFluid;
+      double rho0 = md.rho0;
+      if (hydrostaticInit_ && gNorm > 0.0) {
+        // p = p_b + rho0 |g| (level - height), height measured along -g.
+        double height = 0.0;
+        for (int a = 0; a < d; ++a) height -= x[i * d + a] * gravity_[static_cast<size_t>(a)] / gNorm;
+        const double ph0 = md.backgroundPressure + md.rho0 * gNorm * (hydrostaticLevel_ - height);
+        rho0 = densityOf(md, ph0);
+      }
+      if (rho[i] <= 0.0 || hydrostaticInit_) rho[i] = rho0;
+      if (m[i] <= 0.0) m[i] = md.rho0 * cellVolume;
+      col[i] = md.colour;
+      p[i] = pressureOf(md, rho[i]);
+    } else {
+      ph[i] = kPhaseWall;
+      mo[i] = kMotionFixed;
+      if (rho[i] <= 0.0) rho[i] = md.rho0;
+      if (m[i] <= 0.0) m[i] = md.rho0 * cellVolume;
+      col[i] = md.colour;
+      for (int a = 0; a < d; ++a) v[i * d + a] = md.wallVelocity[static_cast<size_t>(a)];
+    }
+  }
+  // Boundary particles of other modules: a volume is needed in the fluid sums.
+  for (Index i = 0; i < n; ++i)
+    if (ph[i] != kPhaseFluid && (rho[i] <= 0.0 || m[i] <= 0.0))
+      throw InputError("fluid: boundary particle " + std::to_string(i) +
+                       " has no positive density and mass (needed by the extended summation)");
+}
+
+double FluidModule::pressureOf(const MaterialData& m, double rho) {
+  const double c2 = m.soundSpeed * m.soundSpeed;
+  if (m.eos == Eos::Tait)
+    return m.rho0 * c2 / m.taitGamma * (std::pow(rho / m.rho0, m.taitGamma) - 1.0) +
+           m.backgroundPressure;
+  return c2 * (rho - m.rho0) + m.backgroundPressure;  // Eq. 1.4
+}
+
+double FluidModule::densityOf(const MaterialData& m, double p) {
+  const double c2 = m.soundSpeed * m.soundSpeed;
+  if (m.eos == Eos::Tait) {
+    const double base = std::max(1e-3, 1.0 + (p - m.backgroundPressure) * m.taitGamma / (m.rho0 * c2));
+    return m.rho0 * std::pow(base, 1.0 / m.taitGamma);
+  }
+  return std::max(1e-3 * m.rho0, m.rho0 + (p - m.backgroundPressure) / c2);
+}
+
+// ---------------------------------------------------------------------------------------------
+// stages
+
+void FluidModule::kinematics(Simulation& sim) {
+  dispatchDimension(dim_, [&](auto dc) { this->template kinematicsD<decltype(dc)::value>(sim); });
+}
+void FluidModule::constitutive(Simulation& sim) {
+  dispatchDimension(dim_, [&](auto dc) { this->template constitutiveD<decltype(dc)::value>(sim); });
+}
+void FluidModule::forces(Simulation& sim) {
+  dispatchDimension(dim_, [&](auto dc) { this->template forcesD<decltype(dc)::value>(sim); });
+}
+
+template <int D>
+void FluidModule::kinematicsD(Simulation& sim) {
+  auto& st = sim.store;
+  const Index n = st.realCount();
+  const auto& nl = sim.neighbours;
+  const Kernel& W = sim.kernel;
+  const double* x = st.data(st.position());
+  const double* m = st.data(st.mass());
+  double* rho = st.data(st.density());
+  const std::int32_t* ph = st.data(st.phase());
+
+  // Density summation (option; number-density form rho_a = m_a sum_b W_ab, Hu & Adams, so that
+  // it holds across a density jump; boundary particles count as full neighbours).
+  if (summation_) {
+    const double w0 = W.value(0.0);
+#pragma omp parallel for schedule(static)
+    for (Index i = 0; i < n; ++i) {
+      if (ph[i] != kPhaseFluid) continue;
+      double s = w0;
+      for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
+        const Index j = nl.index[static_cast<size_t>(k)];
+        Vec<D> r;
+        for (int a = 0; a < D; ++a) r[a] = x[i * D + a] - x[j * D + a];
+        s += W.value(r.norm());
+      }
+      rho[i] = m[i] * s;
+    }
+    st.refreshGhosts(st.density());
+  }
+
+  if (gamma_ <= 0.0) return;
+  // Colour gradient (Eq. 5.7) on interface particles only: a particle whose neighbours all have
+  // its colour costs one comparison per neighbour.
+  const double* col = st.data(colour);
+  double* ng = st.data(colourGradient);
+  double* kap = st.data(curvature);
+  std::int32_t* itf = st.data(interface);
+#pragma omp parallel for schedule(static)
+  for (Index i = 0; i < n; ++i) {
+    Vec<D> g = Vec<D>::Zero();
+    int flag = 0;
+    if (ph[i] == kPhaseFluid) {
+      const double rhoi = rho[i];
+      for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
+        const Index j = nl.index[static_cast<size_t>(k)];
+        const double dc = col[j] - col[i];
+        if (dc == 0.0) continue;
+        if (ph[j] != kPhaseFluid && !wallWetting_) continue;
+        flag = 1;
+        Vec<D> r;
+        for (int a = 0; a < D; ++a) r[a] = x[i * D + a] - x[j * D + a];
+        const double Vj = m[j] / rho[j];
+        double w = 1.0;
+        if (densityWeightedCsf_ && ph[j] == kPhaseFluid) w = 2.0 * rhoi / (rhoi + rho[j]);
+        g += (w * Vj * dc * W.F(r.norm())) * r;
+      }
+    }
+    for (int a = 0; a < D; ++a) ng[i * D + a] = g[a];
+    itf[i] = flag;
+  }
+  st.refreshGhosts(colourGradient);
+  st.refreshGhosts(interface);
+
+  // Curvature kappa = -div(n_hat) (Eq. 1.6) in the difference form of Eq. 5.8, over the
+  // neighbours with a reliable normal (|n| h > threshold), renormalised by the same sum of a
+  // linear field so that the truncated set of neighbours gives the exact divergence of a linear
+  // field (Morris 2000).
+  const double h = W.h();
+  const double thr = normalThreshold_ / h;
+#pragma omp parallel for schedule(static)
+  for (Index i = 0; i < n; ++i) {
+    kap[i] = 0.0;
+    if (!itf[i] || ph[i] != kPhaseFluid) continue;
+    Vec<D> ni;
+    for (int a = 0; a < D; ++a) ni[a] = ng[i * D + a];
+    const double nn = ni.norm();
+    if (nn <= thr) continue;
+    const Vec<D> ui = ni / nn;
+    double num = 0.0, den = 0.0;
+    for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
+      const Index j = nl.index[static_cast<size_t>(k)];
+      if (ph[j] != kPhaseFluid || !itf[j]) continue;
+      Vec<D> nj;
+      for (int a = 0; a < D; ++a) nj[a] = ng[j * D + a];
+      const double nnj = nj.norm();
+      if (nnj <= thr) continue;
+      Vec<D> r;
+      for (int a = 0; a < D; ++a) r[a] = x[i * D + a] - x[j * D + a];
+      const double Vj = m[j] / rho[j];
+      const double F = W.F(r.norm());
+      num += Vj * (nj / nnj - ui).dot(r) * F;
+      den += Vj * r.squaredNorm() * F;
+    }
+    kap[i] = den != 0.0 ? D * num / den : 0.0;
+  }
+}
+
+template <int D>
+void FluidModule::constitutiveD(Simulation& sim) {
+  auto& st = sim.store;
+  const Index n = st.realCount();
+  const double* rho = st.data(st.density());
+  const std::int32_t* ph = st.data(st.phase());
+  const std::int32_t* mt = st.data(st.material());
+  double* p = st.data(pressure);
+  const MaterialData* md = mat_.data();
+  const int nm = static_cast<int>(mat_.size());
+
+  // Equation of state (Eq. 1.4 or Tait) and the largest density variation.
+  double maxVar = 0.0;
+#pragma omp parallel for schedule(static) reduction(max : maxVar)
+  for (Index i = 0; i < n; ++i) {
+    if (ph[i] != kPhaseFluid) continue;
+    const int id = mt[i];
+    if (id < 0 || id >= nm || !md[id].fluid) continue;
+    p[i] = pressureOf(md[id], rho[i]);
+    maxVar = std::max(maxVar, std::abs(rho[i] - md[id].rho0) / md[id].rho0);
+  }
+  maxVariation_ = maxVar;
+  if (maxVar > densityBound_) {
+    ++boundExceeded_;
+    if (maxVar > 1.5 * lastWarned_) {
+      std::fprintf(stderr,
+                   "warning: fluid: max density variation %.3g %% exceeds the bound %.3g %% at "
+                   "step %lld (t = %.6g s): the sound speed is too low for this flow\n",
+                   100.0 * maxVar, 100.0 * densityBound_, static_cast<long long>(sim.step),
+                   sim.time);
+      lastWarned_ = maxVar;
+    }
+  }
+  st.refreshGhosts(pressure);
+
+  // Boundary particles (walls, other phases): pressure and velocity extrapolated from the fluid
+  // neighbours (extended summation with a hydrostatic correction, Adami et al. 2012):
+  //   p_w = (sum_f p_f W_wf + g . sum_f rho_f r_wf W_wf) / sum_f W_wf,
+  //   v~_w = 2 v_w - sum_f v_f W_wf / sum_f W_wf   (no-slip in the viscous term).
+  const auto& nl = sim.neighbours;
+  const Kernel& W = sim.kernel;
+  const double* x = st.data(st.position());
+  const double* v = st.data(st.velocity());
+  double* vw = st.data(wallVelocity);
+  Vec<D> g;
+  for (int a = 0; a < D; ++a) g[a] = gravity_[static_cast<size_t>(a)];
+#pragma omp parallel for schedule(static)
+  for (Index i = 0; i < n; ++i) {
+    if (ph[i] == kPhaseFluid) continue;
+    double sw = 0.0, sp = 0.0;
+    Vec<D> srr = Vec<D>::Zero(), sv = Vec<D>::Zero();
+    for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
+      const Index j = nl.index[static_cast<size_t>(k)];
+      if (ph[j] != kPhaseFluid) continue;
+      Vec<D> r;
+      for (int a = 0; a < D; ++a) r[a] = x[i * D + a] - x[j * D + a];
+      const double w = W.value(r.norm());
+      sw += w;
+      sp += p[j] * w;
+      srr += (rho[j] * w) * r;
+      for (int a = 0; a < D; ++a) sv[a] += v[j * D + a] * w;
+    }
+    if (sw > 0.0) {
+      p[i] = (sp + g.dot(srr)) / sw;
+      for (int a = 0; a < D; ++a) vw[i * D + a] = 2.0 * v[i * D + a] - sv[a] / sw;
+    } else {
+      p[i] = 0.0;
+      for (int a = 0; a < D; ++a) vw[i * D + a] = v[i * D + a];
+    }
+  }
+  st.refreshGhosts(pressure);
+  st.refreshGhosts(wallVelocity);
+}
+
+template <int D>
+void FluidModule::forcesD(Simulation& sim) {
+  auto& st = sim.store;
+  const Index n = st.realCount();
+  const auto& nl = sim.neighbours;
+  const Kernel& W = sim.kernel;
+  const double* x = st.data(st.position());
+  const double* v = st.data(st.velocity());
+  const double* m = st.data(st.mass());
+  const double* rho = st.data(st.density());
+  const double* p = st.data(pressure);
+  const double* vw = st.data(wallVelocity);
+  const std::int32_t* ph = st.data(st.phase());
+  const std::int32_t* mt = st.data(st.material());
+  const std::int32_t* mo = st.data(sim.motion);
+  double* acc = st.data(sim.acceleration);
+  double* drho = summation_ ? nullptr : st.data(densityRate);
+  const double* ng = gamma_ > 0.0 ? st.data(colourGradient) : nullptr;
+  const double* kap = gamma_ > 0.0 ? st.data(curvature) : nullptr;
+  const std::int32_t* itf = gamma_ > 0.0 ? st.data(interface) : nullptr;
+  const MaterialData* md = mat_.data();
+  const int nm = static_cast<int>(mat_.size());
+  const double h = W.h();
+  const bool huAdams = pressureForm_ == PressureForm::HuAdams;
+  Vec<D> g;
+  for (int a = 0; a < D; ++a) g[a] = gravity_[static_cast<size_t>(a)];
+
+#pragma omp parallel for schedule(dynamic, 256)
+  for (Index i = 0; i < n; ++i) {
+    if (ph[i] != kPhaseFluid || mo[i] == kMotionFixed) continue;
+    const int ida = mt[i];
+    if (ida < 0 || ida >= nm || !md[ida].fluid) continue;
+    const MaterialData& ma = md[ida];
+    const double rhoa = rho[i], pa = p[i], mua = ma.viscosity;
+    const double Va = m[i] / rhoa;
+    Vec<D> va;
+    for (int a = 0; a < D; ++a) va[a] = v[i * D + a];
+    Vec<D> aP = Vec<D>::Zero(), aV = Vec<D>::Zero();
+    double divv = 0.0, diff = 0.0;
+    for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
+      const Index j = nl.index[static_cast<size_t>(k)];
+      Vec<D> r;
+      for (int a = 0; a < D; ++a) r[a] = x[i * D + a] - x[j * D + a];
+      const double F = W.F(r.norm());
+      if (F == 0.0) continue;
+      const Vec<D> gradW = F * r;
+      double rhob, pb, mub, Vb;
+      Vec<D> vb, vbVisc;
+      for (int a = 0; a < D; ++a) vb[a] = v[j * D + a];
+      const bool fluidB = ph[j] == kPhaseFluid;
+      if (fluidB) {
+        const int idb = mt[j];
+        rhob = rho[j];
+        pb = p[j];
+        mub = (idb >= 0 && idb < nm) ? md[idb].viscosity : mua;
+        Vb = m[j] / rhob;
+        vbVisc = vb;
+        if (densityDiffusion_ > 0.0 && idb == ida)  // Molteni-Colagrossi density diffusion
+          diff += 2.0 * Vb * (rhoa - rhob) * F;
+      } else {
+        // Boundary particle: extrapolated pressure, the density the fluid a would have at that
+        // pressure, the boundary particle's own volume; no-slip through v~_w.
+        pb = p[j];
+        rhob = densityOf(ma, pb);
+        mub = mua;
+        Vb = m[j] / rho[j];
+        for (int a = 0; a < D; ++a) vbVisc[a] = vw[j * D + a];
+      }
+      const double mb = rhob * Vb;
+      const Vec<D> vab = va - vbVisc;
+      const double muBar = mua + mub > 0.0
+                               ? (harmonicMean_ ? 4.0 * mua * mub / (mua + mub) : mua + mub)
+                               : 0.0;
+      if (huAdams) {
+        // Hu & Adams (2006): -(1/m_a) sum (V_a^2 + V_b^2) p~_ab grad W, p~ density-weighted.
+        const double pt = (rhob * pa + rhoa * pb) / (rhoa + rhob);
+        const double vv = (Va * Va + Vb * Vb) / m[i];
+        aP -= (vv * pt) * gradW;
+        aV += (vv * 0.5 * muBar * F) * vab;
+      } else {
+        aP -= (mb * (pa / (rhoa * rhoa) + pb / (rhob * rhob))) * gradW;  // Eq. 5.2b
+        aV += (muBar * Vb * F / rhoa) * vab;                              // Eq. 5.4
+      }
+      divv += Vb * (va - vb).dot(gradW);  // Eq. 5.1a (boundary: its own velocity)
+      if (artificialViscosity_ > 0.0) {
+        // Monaghan's artificial viscosity (Eq. 2.64, linear term only), approaching pairs.
+        const double vr = (va - vb).dot(r);
+        if (vr < 0.0) {
+          const double muab = h * vr / (r.squaredNorm() + 0.01 * h * h);
+          const double cb = fluidB && mt[j] >= 0 && mt[j] < nm ? md[mt[j]].soundSpeed : ma.soundSpeed;
+          const double Pi = -artificialViscosity_ * 0.5 * (ma.soundSpeed + cb) * muab /
+                            (0.5 * (rhoa + rhob));
+          aV -= (mb * Pi) * gradW;
+        }
+      }
+    }
+    Vec<D> ai = aP + aV + g;
+    for (const BodyForce& b : bodyForces_) {
+      bool inside = true;
+      for (int a = 0; a < D; ++a)
+        inside = inside && x[i * D + a] >= b.lo[static_cast<size_t>(a)] &&
+                 x[i * D + a] <= b.hi[static_cast<size_t>(a)];
+      if (inside)
+        for (int a = 0; a < D; ++a) ai[a] += b.acceleration[static_cast<size_t>(a)];
+    }
+    // CSF surface tension, Eq. 1.9 with the colour gradient of Eq. 5.7 (colour jump 2 => 1/2).
+    if (gamma_ > 0.0 && itf[i]) {
+      for (int a = 0; a < D; ++a) ai[a] += 0.5 * gamma_ * kap[i] * ng[i * D + a] / rhoa;
+    }
+    for (int a = 0; a < D; ++a) acc[i * D + a] += ai[a];
+    if (drho) drho[i] += rhoa * divv + densityDiffusion_ * h * ma.soundSpeed * diff;
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// time step and diagnostics
+
+double FluidModule::timeStepLimit(const Simulation& sim) const {
+  const auto& st = sim.store;
+  const Index n = st.realCount();
+  const int d = dim_;
+  const double* v = st.data(st.velocity());
+  const double* acc = st.data(sim.acceleration);
+  const std::int32_t* ph = st.data(st.phase());
+  double vmax2 = 0.0, amax2 = 0.0;
+#pragma omp parallel for schedule(static) reduction(max : vmax2, amax2)
+  for (Index i = 0; i < n; ++i) {
+    if (ph[i] != kPhaseFluid) continue;
+    double v2 = 0.0, a2 = 0.0;
+    for (int a = 0; a < d; ++a) {
+      v2 += v[i * d + a] * v[i * d + a];
+      a2 += acc[i * d + a] * acc[i * d + a];
+    }
+    vmax2 = std::max(vmax2, v2);
+    amax2 = std::max(amax2, a2);
+  }
+  const double h = sim.kernel.h();
+  double dt = std::numeric_limits<double>::infinity();
+  if (maxSoundSpeed_ > 0.0) dt = std::min(dt, cflAcoustic_ * h / (maxSoundSpeed_ + std::sqrt(vmax2)));
+  if (std::isfinite(minNu_)) dt = std::min(dt, cflViscous_ * h * h / minNu_);
+  if (amax2 > 0.0) dt = std::min(dt, cflForce_ * std::sqrt(h / std::sqrt(amax2)));  // Eq. 2.49
+  if (vmax2 > 0.0) dt = std::min(dt, 0.25 * h / std::sqrt(vmax2));                   // Eq. 2.49
+  if (gamma_ > 0.0 && std::isfinite(minRho0_))  // capillary waves (Brackbill et al. 1992)
+    dt = std::min(dt, cflSurface_ * std::sqrt(minRho0_ * h * h * h / (2.0 * kPi * gamma_)));
+  return dt;
+}
+
+void FluidModule::diagnostics(const Simulation& sim,
+                              std::vector<std::pair<std::string, double>>& columns) const {
+  const auto& st = sim.store;
+  const Index n = st.realCount();
+  const int d = dim_;
+  const double* v = st.data(st.velocity());
+  const double* m = st.data(st.mass());
+  const std::int32_t* ph = st.data(st.phase());
+  double vmax2 = 0.0, ek = 0.0;
+#pragma omp parallel for schedule(static) reduction(max : vmax2) reduction(+ : ek)
+  for (Index i = 0; i < n; ++i) {
+    if (ph[i] != kPhaseFluid) continue;
+    double v2 = 0.0;
+    for (int a = 0; a < d; ++a) v2 += v[i * d + a] * v[i * d + a];
+    vmax2 = std::max(vmax2, v2);
+    ek += 0.5 * m[i] * v2;
+  }
+  columns.emplace_back("fluid_max_density_variation", maxVariation_);
+  columns.emplace_back("fluid_max_speed", std::sqrt(vmax2));
+  columns.emplace_back("fluid_kinetic_energy", ek);
+}
+
+PORESPH_REGISTER_MODULE(FluidModule, "fluid")
+
+}  // namespace poresph

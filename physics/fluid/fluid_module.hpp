@@ -1,0 +1,109 @@
+#pragma once
+// Two-phase weakly compressible fluid (thesis Sec. 1.3.1 and 5.1), module name "fluid".
+//
+// Material models owned here:
+//   "fluid": density (rho0, kg/m^3), sound_speed (m/s), viscosity (dynamic, Pa s),
+//            optional eos: linear (Eq. 1.4, default) | tait, tait_gamma (7),
+//            background_pressure (Pa, 0), colour (+1 liquid, -1 gas, Eq. 5.6; default +1).
+//   "wall":  fixed boundary particles (phase kPhaseWall, motion fixed): density (kg/m^3),
+//            contact_angle (degrees, 90), velocity (m/s, tangential wall velocity, default 0).
+// Particles of other phases (solid, rigid) are boundaries too: they take part in the fluid sums
+// exactly like walls (extended summation, thesis Sec. 5.1) with their own velocity field; their
+// wetting colour is the field "colour" (0 = 90 degrees unless their module sets it).
+//
+// Module section "fluid" (all optional): see docs/fluid.md for the full list.
+//
+// Stages: kinematics = density summation (option), colour gradient (5.7) and curvature (5.8) on
+// interface particles only; constitutive = EOS (1.4 / Tait) and wall pressure/velocity
+// extrapolation (extended summation with a hydrostatic wall pressure); forces = continuity
+// (5.1a), pressure gradient (5.2b), harmonic-mean viscosity (5.4), body forces, CSF surface
+// tension (1.9), all in gather form.
+#include <string>
+#include <vector>
+
+#include "libcore/module.hpp"
+#include "libcore/particle_store.hpp"
+#include "libcore/types.hpp"
+
+namespace poresph {
+
+class FluidModule : public Module {
+ public:
+  enum class Eos { Linear, Tait };
+  enum class PressureForm { Symmetric, HuAdams };
+  struct MaterialData {
+    bool owned = false;  ///< a material of this module
+    bool fluid = false;  ///< model "fluid" (otherwise a boundary)
+    double rho0 = 1000.0;
+    double soundSpeed = 0.0;
+    double viscosity = 0.0;
+    Eos eos = Eos::Linear;
+    double taitGamma = 7.0;
+    double backgroundPressure = 0.0;
+    double colour = 1.0;         ///< fluid colour (5.6) or wall colour cos(theta) (1.10)
+    std::vector<double> wallVelocity;
+  };
+  struct BodyForce {
+    std::vector<double> acceleration, lo, hi;
+  };
+
+  std::string name() const override { return "fluid"; }
+  std::vector<std::string> materialModels() const override { return {"fluid", "wall"}; }
+  void configure(Simulation& sim, const std::vector<const Material*>& materials,
+                 const ParameterSet* section) override;
+  void initialise(Simulation& sim) override;
+  void kinematics(Simulation& sim) override;
+  void constitutive(Simulation& sim) override;
+  void forces(Simulation& sim) override;
+  double timeStepLimit(const Simulation& sim) const override;
+  void diagnostics(const Simulation& sim,
+                   std::vector<std::pair<std::string, double>>& columns) const override;
+
+  /// Pressure from the EOS of material data m (Eq. 1.4 or Tait).
+  static double pressureOf(const MaterialData& m, double rho);
+  /// Inverse EOS: density of material m at pressure p.
+  static double densityOf(const MaterialData& m, double p);
+
+  // ---- read-only access for tests and diagnostics ----
+  const MaterialData& materialData(int id) const { return mat_.at(static_cast<size_t>(id)); }
+  double surfaceTension() const { return gamma_; }
+  /// Largest |rho - rho0| / rho0 over the fluid particles at the last EOS evaluation.
+  double maxDensityVariation() const { return maxVariation_; }
+  /// Number of EOS evaluations at which the density bound was exceeded.
+  long long densityBoundExceeded() const { return boundExceeded_; }
+  double densityBound() const { return densityBound_; }
+  const std::vector<double>& gravity() const { return gravity_; }
+
+  // field handles
+  RealField pressure, densityRate, colour, colourGradient, curvature, wallVelocity;
+  IntField interface;
+
+ private:
+  template <int D> void kinematicsD(Simulation& sim);
+  template <int D> void constitutiveD(Simulation& sim);
+  template <int D> void forcesD(Simulation& sim);
+
+  std::vector<MaterialData> mat_;  // by material id
+  std::vector<double> gravity_;
+  std::vector<BodyForce> bodyForces_;
+  bool summation_ = false;
+  PressureForm pressureForm_ = PressureForm::Symmetric;
+  bool harmonicMean_ = true;
+  double gamma_ = 0.0;              // surface tension coefficient (N/m)
+  bool densityWeightedCsf_ = true;  // CSF weighting 2 rho_a / (rho_a + rho_b)
+  double normalThreshold_ = 0.05;   // |n| h below which a normal is not used (5.8)
+  bool wallWetting_ = true;         // walls' colour cos(theta) enters 5.7 (1.10)
+  double densityDiffusion_ = 0.0;   // delta of the Molteni-Colagrossi term (0: off)
+  double artificialViscosity_ = 0.0;  // alpha of Eq. 2.64 (0: off)
+  double densityBound_ = 0.03;
+  double cflAcoustic_ = 0.25, cflViscous_ = 0.125, cflForce_ = 0.25, cflSurface_ = 0.25;
+  bool hydrostaticInit_ = false;
+  double hydrostaticLevel_ = 0.0;   // coordinate (along -g) where p = background pressure
+  double maxSoundSpeed_ = 0.0, minNu_ = 0.0, minRho0_ = 0.0;
+  double maxVariation_ = 0.0;
+  double lastWarned_ = 0.0;
+  long long boundExceeded_ = 0;
+  int dim_ = 2;
+};
+
+}  // namespace poresph

@@ -1,0 +1,175 @@
+// Unit tests of the fluid module core: EOS (Eq. 1.4, Tait), parameter errors, hydrostatic box at
+// rest between walls (extended summation, Sec. 5.1), density-variation warning, time step.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+
+#include "libcore/phases.hpp"
+#include "physics/fluid/fluid_setup.hpp"
+
+using namespace poresph;
+namespace fs = poresph::fluidsetup;
+
+namespace {
+
+// A closed 2D box: fluid [0, W] x [0, H], walls (3 layers) on all four sides.
+struct Tank {
+  Simulation sim{2};
+  FluidModule* fluid = nullptr;
+  fs::Stepper stepper;
+  double W = 0.02, H = 0.02, dx = 1e-3, rho0 = 1000.0, c = 5.0, g = 9.81;
+  double pb = 0.0;
+  Tank(bool hydrostatic, const std::string& extra = "") {
+    sim.spacing = dx;
+    sim.kernel = Kernel(KernelType::WendlandC2, 2, 1.3 * dx);
+    sim.domain.lo = {-4 * dx, -4 * dx, 0};
+    sim.domain.hi = {W + 4 * dx, H + 4 * dx, 0};
+    const int water = fs::addMaterial(sim, "water", "fluid",
+                                      "{density: 1000, sound_speed: 5, viscosity: 1.0e-3, background_pressure: " +
+                                          std::to_string(pb) + "}");
+    const int wall = fs::addMaterial(sim, "wall", "wall", "{density: 1000}");
+    std::string sec = "{gravity: [0, -9.81]" + std::string(", artificial_viscosity: 0.1") + std::string(hydrostatic ? ", hydrostatic_level: 0.02" : "") + extra + "}";
+    fluid = fs::addFluidModule(sim, sec);
+    fs::addLattice(sim, {0, 0}, {W, H}, water);
+    const double t = 3 * dx;
+    fs::addLattice(sim, {-t, -t}, {W + t, H + t}, wall, [&](const double* x) {
+      return x[0] < 0 || x[0] > W || x[1] < 0 || x[1] > H;
+    });
+    fluid->initialise(sim);
+  }
+  double run(double tEnd) {
+    while (sim.time < tEnd * (1 - 1e-12)) {
+      const double dt = stepper.step(sim, tEnd - sim.time);
+      if (std::getenv("FLUID_DEBUG") && sim.step % 200 == 0)
+        std::printf("step %lld t %.4e dt %.3e var %.3e\n", (long long)sim.step, sim.time, dt,
+                    fluid->maxDensityVariation());
+    }
+    return sim.time;
+  }
+};
+
+}  // namespace
+
+TEST(FluidEos, LinearAndTaitRoundTrip) {
+  FluidModule::MaterialData m;
+  m.rho0 = 1000.0;
+  m.soundSpeed = 20.0;
+  m.backgroundPressure = 50.0;
+  EXPECT_DOUBLE_EQ(FluidModule::pressureOf(m, 1001.0), 400.0 + 50.0);  // Eq. 1.4
+  EXPECT_NEAR(FluidModule::densityOf(m, 450.0), 1001.0, 1e-9);
+  m.eos = FluidModule::Eos::Tait;
+  // Tait: p = rho0 c^2 / gamma ((rho/rho0)^gamma - 1) + p_b; slope c^2 at rho0.
+  const double dp = FluidModule::pressureOf(m, 1000.001) - FluidModule::pressureOf(m, 999.999);
+  EXPECT_NEAR(dp / 0.002, 400.0, 1e-3);
+  EXPECT_NEAR(FluidModule::densityOf(m, FluidModule::pressureOf(m, 1010.0)), 1010.0, 1e-9);
+}
+
+TEST(FluidConfig, BadInputNamesKeyAndValue) {
+  Simulation sim(2);
+  sim.spacing = 1e-3;
+  fs::addMaterial(sim, "water", "fluid", "{density: -1, sound_speed: 5, viscosity: 1.0e-3}");
+  try {
+    fs::addFluidModule(sim, "");
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    const std::string w = e.what();
+    EXPECT_NE(w.find("density"), std::string::npos) << w;
+    EXPECT_NE(w.find("-1"), std::string::npos) << w;
+  }
+  Simulation sim2(2);
+  fs::addMaterial(sim2, "water", "fluid", "{density: 1000, sound_speed: 5, viscosity: 1.0e-3, colr: 1}");
+  EXPECT_THROW(fs::addFluidModule(sim2, ""), InputError);  // unknown key
+  Simulation sim3(2);
+  fs::addMaterial(sim3, "water", "fluid", "{density: 1000, sound_speed: 5, viscosity: 1.0e-3}");
+  EXPECT_THROW(fs::addFluidModule(sim3, "{density: sumation}"), InputError);
+  Simulation sim4(2);
+  fs::addMaterial(sim4, "wall", "wall", "{density: 1000, contact_angle: 200}");
+  EXPECT_THROW(fs::addFluidModule(sim4, ""), InputError);
+}
+
+TEST(FluidCore, PhasesMotionAndColours) {
+  Tank t(true);
+  const auto& st = t.sim.store;
+  const std::int32_t* ph = st.data(st.phase());
+  const std::int32_t* mo = st.data(t.sim.motion);
+  const std::int32_t* mt = st.data(st.material());
+  for (Index i = 0; i < st.realCount(); ++i) {
+    if (mt[i] == 0) {
+      EXPECT_EQ(ph[i], kPhaseFluid);
+      EXPECT_EQ(mo[i], kMotionFree);
+    } else {
+      EXPECT_EQ(ph[i], kPhaseWall);
+      EXPECT_EQ(mo[i], kMotionFixed);
+    }
+  }
+  EXPECT_NEAR(t.fluid->materialData(1).colour, 0.0, 1e-15);  // 90 degrees: cos = 0 (Eq. 1.10)
+}
+
+// A tank at rest under gravity stays at rest: the walls' extrapolated pressure carries the
+// hydrostatic column (p_bottom = rho0 g H), nothing penetrates the walls.
+TEST(FluidCore, HydrostaticTankStaysAtRest) {
+  Tank t(true);
+  const double tEnd = 0.1;  // ~2 sqrt(H/g) and ~25 acoustic crossings of H
+  t.run(tEnd);
+  const auto& st = t.sim.store;
+  const Index n = st.realCount();
+  const double* x = st.data(st.position());
+  const double* v = st.data(st.velocity());
+  const double* p = st.data(t.fluid->pressure);
+  const std::int32_t* ph = st.data(st.phase());
+  double xv = 0, yv = 0, vmax = 0.0, pBottom = 0.0, wBottom = 0.0, yMin = 1e9, yMax = -1e9, xMin = 1e9, xMax = -1e9;
+  for (Index i = 0; i < n; ++i) {
+    if (ph[i] != kPhaseFluid) continue;
+    if (std::hypot(v[2 * i], v[2 * i + 1]) > vmax) {
+      vmax = std::hypot(v[2 * i], v[2 * i + 1]);
+      xv = x[2 * i];
+      yv = x[2 * i + 1];
+    }
+    yMin = std::min(yMin, x[2 * i + 1]);
+    yMax = std::max(yMax, x[2 * i + 1]);
+    xMin = std::min(xMin, x[2 * i]);
+    xMax = std::max(xMax, x[2 * i]);
+    // pressure of the fluid in the middle band, second row above the bottom
+    if (x[2 * i + 1] < 2 * t.dx && std::abs(x[2 * i] - 0.5 * t.W) < 0.25 * t.W) {
+      pBottom += p[i];
+      wBottom += 1.0;
+    }
+  }
+  pBottom /= wBottom;
+  const double pRef = t.rho0 * t.g * (t.H - 1.0 * t.dx);  // mean height of the two rows = dx
+  std::printf("max speed at (%.4f, %.4f)\n", xv, yv);
+  std::printf("max speed %.3e m/s (sqrt(gH) = %.3f), bottom pressure %.2f Pa (ref %.2f)\n", vmax,
+              std::sqrt(t.g * t.H), pBottom, pRef);
+  EXPECT_LT(vmax, 5e-3 * std::sqrt(t.g * t.H));  // at rest up to acoustic noise
+  EXPECT_NEAR(pBottom, pRef, 0.03 * pRef);
+  EXPECT_GT(yMin, 0.0);  // no particle penetrates the walls
+  EXPECT_GT(xMin, 0.0);
+  EXPECT_LT(xMax, t.W);
+  EXPECT_LT(yMax, t.H);
+  EXPECT_LT(t.fluid->maxDensityVariation(), 0.03);
+  t.sim.checkFinite();
+}
+
+// Starting from a uniform density the column compresses, oscillates and is damped toward the
+// same hydrostatic state.
+TEST(FluidCore, DensityBoundWarning) {
+  Tank t(false, ", density_variation_bound: 0.001");
+  t.run(0.01);
+  EXPECT_GT(t.fluid->densityBoundExceeded(), 0);
+  EXPECT_GT(t.fluid->maxDensityVariation(), 0.001);
+  auto cols = t.sim.diagnostics();
+  bool found = false;
+  for (const auto& c : cols)
+    if (c.first == "fluid_max_density_variation") found = true;
+  EXPECT_TRUE(found);
+}
+
+TEST(FluidCore, TimeStepLimits) {
+  Tank t(true);
+  t.sim.evaluateRates();
+  const double h = t.sim.kernel.h();
+  const double dt = t.fluid->timeStepLimit(t.sim);
+  EXPECT_LE(dt, 0.25 * h / t.c * (1 + 1e-12));  // acoustic CFL
+  EXPECT_GT(dt, 0.0);
+}
