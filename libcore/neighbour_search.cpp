@@ -157,7 +157,10 @@ void NeighbourSearch::buildDim(const double* x, Index nReal, Index nTotal, doubl
             prevThreads_ == nt ? prevChunk_[static_cast<size_t>(k)] : prevTotal / nt;
         regionBegin_[static_cast<size_t>(k) + 1] = regionBegin_[static_cast<size_t>(k)] + est + est / 8 + 1024;
       }
-      out.index.resize(static_cast<size_t>(regionBegin_[static_cast<size_t>(nt)]));
+      const std::size_t want = static_cast<std::size_t>(regionBegin_[static_cast<size_t>(nt)]);
+      // Explicit reserve: a plain resize beyond the capacity would double it.
+      if (want > out.index.capacity()) out.index.reserve(want + want / 16);
+      out.index.resize(want);
     }  // implicit barrier
     std::uint32_t* dst = out.index.data() + regionBegin_[static_cast<size_t>(t)];
     std::size_t cap = static_cast<std::size_t>(regionBegin_[static_cast<size_t>(t) + 1] -
