@@ -104,6 +104,9 @@ void ElasticSolidModule::configure(Simulation& sim, const std::vector<const Mate
     }
     e.xsph = p.real("xsph_epsilon", 0.0, Range::closed(0.0, 1.0));
     e.damping = p.real("damping", 0.0, Range::nonNegative());
+    e.hourglass = p.real("hourglass", 0.0, Range::closed(0.0, 1000.0));
+    if (e.hourglass > 0.0 && form != Formulation::TotalLagrangian)
+      p.fail("hourglass", "hourglass control is for the total_lagrangian formulation only");
     p.finish();
     lameParameters(e.young, e.poisson, dim, pl, e.lambda, e.mu);
     if (form == Formulation::SmallStrainDisplacement && e.lambda > e.mu * (1.0 + 1e-12))
@@ -782,6 +785,8 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
     const double* G = s.data(famGrad_);
     const double* GR = s.data(famRevGrad_);
     const double* P = s.data(piola_);
+    const double* Fg = s.data(defGrad_);
+    const double* X = s.data(refPos_);
     const int cap = familyCapacity_;
 #pragma omp parallel for schedule(static)
     for (Index i = 0; i < n; ++i) {
@@ -789,6 +794,9 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
       if (k < 0) continue;
       const ElasticMaterial& e = mats_[static_cast<size_t>(k)];
       const Mat<D> Pi = Eigen::Map<const Mat<D>>(P + i * D * D);
+      const Mat<D> Fi = Eigen::Map<const Mat<D>>(Fg + i * D * D);
+      const Vec<D> Xi = Eigen::Map<const Vec<D>>(X + i * D);
+      Vec<D> fhg = Vec<D>::Zero();
       const Vec<D> vi = Eigen::Map<const Vec<D>>(v + i * D);
       const Vec<D> xi = Eigen::Map<const Vec<D>>(x + i * D);
       Vec<D> f = Vec<D>::Zero(), fav = Vec<D>::Zero(), dvx = Vec<D>::Zero();
@@ -809,12 +817,30 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
           const double Pi_ab = viscosity(e, ej, -vji, rij, rho[i], rho[j]);
           fav.noalias() -= m[j] * Pi_ab * 0.5 * (g - gr);  // antisymmetrised reference gradient
         }
+        if (e.hourglass > 0.0) {
+          // Hourglass control (Ganzenmueller 2015): the part of the pair's current separation
+          // that the particles' own F do not predict is pushed back along the pair, with a
+          // spring of stiffness hourglass * E * W0 / |X_ab|^2; zero for any linear field.
+          const Vec<D> Xji = Eigen::Map<const Vec<D>>(X + j * D) - Xi;
+          const Vec<D> xji = Eigen::Map<const Vec<D>>(x + j * D) - xi;
+          const double dist = xji.norm();
+          if (dist > 0.0) {
+            const Vec<D> ev = xji / dist;
+            const Mat<D> Fj = Eigen::Map<const Mat<D>>(Fg + j * D * D);
+            const double dA = (Fi * Xji - xji).dot(ev);    // a's prediction error for b
+            const double dB = (Fj * (-Xji) + xji).dot(-ev);  // b's prediction error for a
+            const double r0 = Xji.norm();
+            const double coef = 0.5 * (e.hourglass * e.young + ej.hourglass * ej.young) * Vj *
+                                W.value(r0) / (r0 * r0);
+            fhg.noalias() -= coef * 0.5 * (dA + dB) * ev;
+          }
+        }
         if (e.xsph > 0.0) {  // 2.66, over the reference family with the current distance
           const double w = W.value((xi - Eigen::Map<const Vec<D>>(x + j * D)).norm());
           dvx.noalias() += m[j] * 2.0 * vji / (rho[i] + rho[j]) * w;
         }
       }
-      const Vec<D> a = f / e.density;
+      const Vec<D> a = (f + fhg) / e.density;
       wRate[i] += (Pi.cwiseProduct(Fdot)).sum();  // 2.77: dw/dt = P : dF/dt (per unit volume)
       const Vec<D> extra = fav - e.damping * vi;
       if (xsphRate) Eigen::Map<Vec<D>>(xsphRate + i * D) += e.xsph * dvx;
@@ -938,10 +964,11 @@ void ElasticSolidModule::constraintsDim(Simulation& sim) {
 // time step (Eqs. 2.49-2.50) and diagnostics (energies, Eqs. 38-39 of Chapter 3)
 // ------------------------------------------------------------------------------------------------
 double ElasticSolidModule::elasticTimeStepLimit(const Simulation& sim) const {
+  // Eq. 2.50, with the artificial viscosity's alpha term (Monaghan: c (1 + 1.2 alpha))
   double c = 0.0;
-  for (const auto& e : mats_) c = std::max(c, e.waveSpeed);
+  for (const auto& e : mats_) c = std::max(c, e.waveSpeed * (1.0 + 1.2 * e.avAlpha));
   if (!(c > 0.0)) return std::numeric_limits<double>::infinity();
-  return courant * sim.kernel.h() / c;  // 2.50
+  return courant * sim.kernel.h() / c;
 }
 
 double ElasticSolidModule::timeStepLimit(const Simulation& sim) const {
@@ -966,6 +993,13 @@ double ElasticSolidModule::timeStepLimit(const Simulation& sim) const {
   const double h = sim.kernel.h();
   double dt = elasticTimeStepLimit(sim);
   if (vmax > 0.0) dt = std::min(dt, 0.25 * h / vmax);             // 2.49a
+  double beta = 0.0;
+  for (const auto& e : mats_) beta = std::max(beta, e.avBeta);
+  if (beta > 0.0 && vmax > 0.0) {  // the beta term of 2.64: h / (c + 1.2 beta max|v|)
+    double c = 0.0;
+    for (const auto& e : mats_) c = std::max(c, e.waveSpeed * (1.0 + 1.2 * e.avAlpha));
+    dt = std::min(dt, courant * h / (c + 1.2 * beta * vmax));
+  }
   if (amax > 0.0) dt = std::min(dt, 0.25 * std::sqrt(h / amax));  // 2.49b
   return dt;
 }

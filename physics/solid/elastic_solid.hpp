@@ -52,6 +52,7 @@ struct ElasticMaterial {
   double avBeta = 0.0;        ///< Eq. 2.64 beta
   double xsph = 0.0;          ///< Eq. 2.66 epsilon
   double damping = 0.0;       ///< viscous damping coefficient c [1/s]: a -= c v
+  double hourglass = 0.0;     ///< TL hourglass control coefficient (Ganzenmueller 2015) [-]
 };
 
 /// Lame parameters of the law used in dimension `dim`: 3D and plane strain: the 3D ones;
