@@ -180,6 +180,25 @@ TEST(SolidPatch, UniformStressGivesNoInteriorForce) {
   }
 }
 
+TEST(SolidPatch, HourglassControlVanishesForLinearFields) {
+  const double dx = 0.01;
+  auto sim = makeBlock<2>("total_lagrangian", 0.25, 16, dx, 1.3, ", hourglass: 5.0");
+  EXPECT_LT(patchTestError<2>(*sim, sampleGradient<2>(), "total_lagrangian", 0.25, false), 1e-9);
+  ParticleStore& s = sim->store;
+  const RealField X = s.real("reference_position");
+  const double scale = kE * 1e-3 / (kRho * dx);
+  double worst = 0.0;
+  for (Index i = 0; i < s.realCount(); ++i) {
+    const Vec<2> x = s.vec<2>(X, i);
+    if (x.minCoeff() < 5.4 * dx || x.maxCoeff() > 10.6 * dx) continue;
+    worst = std::max(worst, s.vec<2>(sim->acceleration, i).norm() / scale);
+  }
+  EXPECT_LT(worst, 1e-9);
+  Simulation bad(2);  // hourglass control is TL-only
+  addMaterial(bad, "clay", "elastic", materialYaml("small_strain_stress", 0.2, ", hourglass: 1"));
+  EXPECT_THROW(addSolidModule(bad), InputError);
+}
+
 TEST(SolidTimeStep, ElasticLimitAndRefusal) {
   auto sim = makeBlock<2>("total_lagrangian", 0.25, 6, 0.01, 1.3);
   auto* solid = dynamic_cast<ElasticSolidModule*>(sim->module("solid"));
