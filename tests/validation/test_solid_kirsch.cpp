@@ -113,3 +113,11 @@ TEST(SolidKirsch, HoopStressProfile) {
   EXPECT_LT(r.profileError, 0.12);
   EXPECT_GT(r.first, 2.0);
 }
+
+// Resolution study, not part of the suite (about a minute): run with
+//   validation_test_solid_kirsch --gtest_also_run_disabled_tests --gtest_filter=*Study*
+TEST(SolidKirsch, DISABLED_StudySixteenPerRadius) {
+  const Result r = runKirsch(16);
+  std::printf("Kirsch 16 per radius: K_t (extrapolated) = %.3f, profile error %.1f %%, %lld particles, %.1f s\n",
+              r.kt, 100 * r.profileError, static_cast<long long>(r.particles), r.wall);
+}

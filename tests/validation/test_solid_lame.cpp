@@ -136,3 +136,11 @@ void check(const std::string& f) {
 
 TEST(SolidLame, TotalLagrangian) { check("total_lagrangian"); }
 TEST(SolidLame, SmallStrainStress) { check("small_strain_stress"); }
+
+// Resolution study, not part of the suite (about a minute): run with
+//   validation_test_solid_lame --gtest_also_run_disabled_tests --gtest_filter=*Study*
+TEST(SolidLame, DISABLED_StudyFortyAcrossTheWall) {
+  const LameResult r = runLame("total_lagrangian", 40, 1.3);
+  std::printf("Lame 40 across: radial %.2f %% p, hoop %.2f %% p, %lld particles, %.1f s\n",
+              100 * r.radialError, 100 * r.hoopError, static_cast<long long>(r.particles), r.wall);
+}
