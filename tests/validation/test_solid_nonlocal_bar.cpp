@@ -95,7 +95,9 @@ void sweep(bool cc) {
                             "lattice law, thesis Ch. 3 Eqs. 7-8 with a = lambda"});
     EXPECT_LT(err, 0.05) << "lambda/L = " << lamL;
     // and the frequency really falls with lambda (non-local softening)
-    if (lamL >= 0.2) EXPECT_LT(b2, (cc ? 1.0 : 0.25) * kPi * kPi * 0.99);
+    if (lamL >= 0.2) {
+      EXPECT_LT(b2, (cc ? 1.0 : 0.25) * kPi * kPi * 0.99);
+    }
   }
 }
 
