@@ -94,12 +94,13 @@ class FluidModule : public Module {
   double normalThreshold_ = 0.05;   // |n| h below which a normal is not used (5.8)
   bool wallWetting_ = true;         // walls' colour cos(theta) enters 5.7 (1.10)
   double densityDiffusion_ = 0.0;   // delta of the Molteni-Colagrossi term (0: off)
+  bool normaliseViscosity_ = true;  // divide 5.4 by the discrete second moment
   double artificialViscosity_ = 0.0;  // alpha of Eq. 2.64 (0: off)
   double densityBound_ = 0.03;
   double cflAcoustic_ = 0.25, cflViscous_ = 0.125, cflForce_ = 0.25, cflSurface_ = 0.25;
   bool hydrostaticInit_ = false;
   double hydrostaticLevel_ = 0.0;   // coordinate (along -g) where p = background pressure
-  double maxSoundSpeed_ = 0.0, minNu_ = 0.0, minRho0_ = 0.0;
+  double maxSoundSpeed_ = 0.0, maxNu_ = 0.0, minRho0_ = 0.0;
   double maxVariation_ = 0.0;
   double lastWarned_ = 0.0;
   long long boundExceeded_ = 0;
