@@ -595,10 +595,18 @@ void ElasticSolidModule::kinematicsDim(Simulation& sim) {
   const double* x = s.data(s.position());
   const double* X = s.data(refPos_);
   double* u = s.data(disp_);
+  // periodic axes: displacements by minimum image (valid while |u| < half the period)
+  double period[3] = {0.0, 0.0, 0.0};
+  for (int a = 0; a < D; ++a)
+    if (sim.domain.periodic[static_cast<size_t>(a)]) period[a] = sim.domain.length(a);
 #pragma omp parallel for schedule(static)
   for (Index i = 0; i < n; ++i) {
     if (slotOf(mat[i]) < 0) continue;
-    for (int a = 0; a < D; ++a) u[i * D + a] = x[i * D + a] - X[i * D + a];
+    for (int a = 0; a < D; ++a) {
+      double d = x[i * D + a] - X[i * D + a];
+      if (period[a] > 0.0) d -= period[a] * std::round(d / period[a]);  // wrapped particles
+      u[i * D + a] = d;
+    }
   }
   if (anyMirror_ || formulation_ == Formulation::TotalLagrangian) rebuildIdMap(sim);
   if (anyMirror_) applyMirrors<D>(sim);
