@@ -1,3 +1,150 @@
-// Placeholder entry point; the command line (run, info) is built in app/.
+// poresph: the command line (docs/cli.md).
+//
+//   poresph run SCENE --out DIR [--threads N] [--force] [--restart CHECKPOINT]
+//   poresph info SCENE [--threads N]
+//   poresph --help | --version
+//
+// Exit codes: 0 done, 2 bad input (scene, options, output directory), 3 numerical blow-up,
+// 130 / 143 stopped by SIGINT / SIGTERM (a checkpoint was written), 1 anything else.
+#include <omp.h>
+
+#include <CLI/CLI.hpp>
+#include <csignal>
+#include <filesystem>
+#include <fstream>
 #include <iostream>
-int main() { std::cout << "poresph " << PORESPH_VERSION << "\n"; return 0; }
+#include <sstream>
+
+#include "libcore/runner.hpp"
+#include "libcore/scene.hpp"
+
+namespace fs = std::filesystem;
+using namespace poresph;
+
+namespace {
+
+constexpr int kExitInput = 2;
+constexpr int kExitNumerical = 3;
+
+void setThreads(int threads) {
+  if (threads > 0) omp_set_num_threads(threads);
+}
+
+/// Refuses a non-empty output directory unless `force`; creates it.
+void prepareOutputDirectory(const std::string& dir, bool force) {
+  std::error_code ec;
+  if (fs::exists(dir, ec)) {
+    if (!fs::is_directory(dir, ec))
+      throw InputError("--out '" + dir + "': exists and is not a directory");
+    if (!fs::is_empty(dir, ec) && !force)
+      throw InputError("--out '" + dir +
+                       "': the output directory is not empty; choose a new one, or pass --force "
+                       "to write into it (files of an earlier run are overwritten)");
+  }
+  fs::create_directories(dir, ec);
+  if (ec) throw InputError("--out '" + dir + "': cannot create the directory: " + ec.message());
+}
+
+void writeFile(const std::string& path, const std::string& text) {
+  std::ofstream f(path, std::ios::binary);
+  f << text;
+  if (!f) throw InputError(path + ": cannot write the file");
+}
+
+int commandInfo(const std::string& scenePath) {
+  SceneOptions opt;
+  opt.initialise = false;
+  Scene scene = loadScene(scenePath, opt);
+  // Build the neighbour lists once so that the summary shows measured counts.
+  scene.sim->updateNeighbours();
+  std::cout << describeScene(scene) << "threads:      " << omp_get_max_threads() << "\n";
+  return 0;
+}
+
+int commandRun(const std::string& scenePath, const std::string& outDir, bool force,
+               const std::string& restart) {
+  // Check the scene before touching the output directory.
+  Scene scene = loadScene(scenePath);
+  prepareOutputDirectory(outDir, force);
+  const fs::path sceneCopy = fs::path(outDir) / fs::path(scenePath).filename();
+  std::error_code ec;
+  if (fs::absolute(sceneCopy, ec) != fs::absolute(scenePath, ec))
+    fs::copy_file(scenePath, sceneCopy, fs::copy_options::overwrite_existing, ec);
+  if (ec) throw InputError(sceneCopy.string() + ": cannot copy the scene: " + ec.message());
+  writeFile((fs::path(outDir) / "run.yaml").string(), resolvedSceneYaml(scene));
+  std::ostringstream summary;
+  summary << "PoreSPH " << PORESPH_VERSION << "\n" << describeScene(scene)
+          << "threads:      " << omp_get_max_threads() << "\n";
+  std::cerr << summary.str();
+  std::cerr << "poresph: writing to " << outDir << " (parameters used: " << outDir
+            << "/run.yaml)\n";
+
+  RunOptions opt;
+  opt.outDir = outDir;
+  opt.progress = &std::cerr;
+  opt.restartFrom = restart;
+  const RunResult r = runScene(scene, opt);
+
+  std::ostringstream end;
+  end << "steps " << r.steps << ", time " << r.time << " s, wall " << r.wallSeconds << " s, "
+      << r.snapshots << " snapshots, checkpoint " << r.checkpoint << "\n";
+  switch (r.status) {
+    case RunStatus::Finished: end << "status: finished\n"; break;
+    case RunStatus::Interrupted: end << "status: interrupted by signal " << r.signal << "\n"; break;
+    case RunStatus::Failed: end << "status: numerical failure: " << r.message << "\n"; break;
+  }
+  writeFile((fs::path(outDir) / "run.log").string(), summary.str() + end.str());
+  std::cerr << "poresph: " << end.str();
+  if (r.status == RunStatus::Failed) return kExitNumerical;
+  if (r.status == RunStatus::Interrupted) return 128 + r.signal;
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"PoreSPH " PORESPH_VERSION
+               ": SPH simulation of pore-scale drainage with damage (docs/cli.md)"};
+  app.set_version_flag("--version", std::string("poresph ") + PORESPH_VERSION);
+  app.require_subcommand(1);
+
+  std::string scenePath, outDir, restart;
+  bool force = false;
+  int threads = 0;
+
+  CLI::App* run = app.add_subcommand("run", "Run a scene to its end_time");
+  run->add_option("scene", scenePath, "Scene file (YAML, docs/scene-format.md)")->required();
+  run->add_option("--out,-o", outDir, "Output directory (refused if not empty, unless --force)")
+      ->required();
+  run->add_option("--threads,-t", threads, "OpenMP threads (default: OMP_NUM_THREADS or all)")
+      ->check(CLI::PositiveNumber);
+  run->add_flag("--force,-f", force, "Write into a non-empty output directory");
+  run->add_option("--restart", restart, "Resume from a checkpoint written by an earlier run");
+
+  CLI::App* info = app.add_subcommand("info", "Describe a scene without running it");
+  info->add_option("scene", scenePath, "Scene file (YAML)")->required();
+  info->add_option("--threads,-t", threads, "OpenMP threads")->check(CLI::PositiveNumber);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);  // prints help/version (code 0) or the error
+    return code == 0 ? 0 : kExitInput;
+  }
+
+  try {
+    setThreads(threads);
+    if (info->parsed()) return commandInfo(scenePath);
+    if (run->parsed()) return commandRun(scenePath, outDir, force, restart);
+  } catch (const InputError& e) {
+    std::cerr << "poresph: error: " << e.what() << "\n";
+    return kExitInput;
+  } catch (const NumericalError& e) {
+    std::cerr << "poresph: numerical failure: " << e.what() << "\n";
+    return kExitNumerical;
+  } catch (const std::exception& e) {
+    std::cerr << "poresph: error: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,56 @@
+#pragma once
+// Geometry builders: regions of a scene (boxes, spheres / discs / segments) filled with a
+// Cartesian lattice of spacing dx.
+//
+// One global lattice serves every region: its sites are lo + (i + 1/2) dx along each axis (lo =
+// the domain's lower corner, i any integer), so that a box [lo, hi] whose faces lie on multiples
+// of dx gets exactly (hi - lo)/dx sites per axis, regions that touch share no site, and regions
+// outside the domain (wall layers on non-periodic axes) line up with the particles inside.
+// Along a periodic axis only sites inside [lo, hi) exist (the images come from the halo), and
+// the domain length must be a whole number of spacings.
+//
+// Regions are applied in order; a later region overrides earlier ones where they overlap. A
+// region with no material (material: none in the scene) subtracts: its sites hold no particle.
+#include <array>
+#include <string>
+#include <vector>
+
+#include "libcore/domain.hpp"
+#include "libcore/types.hpp"
+
+namespace poresph {
+
+struct Region {
+  enum class Shape { Box, Sphere };
+  Shape shape = Shape::Box;
+  std::array<double, 3> lo{0.0, 0.0, 0.0};      ///< box: lower corner
+  std::array<double, 3> hi{0.0, 0.0, 0.0};      ///< box: upper corner
+  std::array<double, 3> centre{0.0, 0.0, 0.0};  ///< sphere: centre
+  double radius = 0.0;                          ///< sphere: radius (disc in 2D, segment in 1D)
+  int material = -1;                            ///< material id; -1 subtracts
+  std::int32_t motion = 0;                      ///< Motion (libcore/simulation.hpp)
+  std::array<double, 3> velocity{0.0, 0.0, 0.0};///< initial (or imposed) velocity, m/s
+  std::string where;                            ///< "file:line: geometry[k]" for messages
+
+  bool subtracts() const { return material < 0; }
+  /// Whether point x (dim components) lies in the region, with a tolerance tol on the boundary.
+  bool contains(const double* x, int dim, double tol) const;
+  /// Axis-aligned bounding box.
+  void bounds(int dim, std::array<double, 3>& blo, std::array<double, 3>& bhi) const;
+};
+
+/// Lattice sites that hold a particle, with the region that owns each (the last region that
+/// contains the site), ordered x fastest, then y, then z.
+struct LatticeFill {
+  int dimension = 3;
+  std::vector<double> position;  ///< dimension components per site
+  std::vector<int> region;       ///< owning region of each site (never a subtracting one)
+  Index count() const { return static_cast<Index>(region.size()); }
+};
+
+/// Fills `regions` on the lattice of spacing dx anchored at domain.lo (see the file comment).
+/// Throws InputError when a periodic length is not a whole number of spacings or when the
+/// lattice would be absurdly large (> 2^31 sites in the bounding box of the regions).
+LatticeFill fillLattice(const std::vector<Region>& regions, const Domain& domain, double dx);
+
+}  // namespace poresph

@@ -1,0 +1,243 @@
+#include "libcore/runner.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstring>
+#include <iomanip>
+#include <ostream>
+#include <sstream>
+#include <vector>
+
+#include "libcore/checkpoint.hpp"
+#include "libcore/integrator.hpp"
+#include "libcore/output.hpp"
+
+namespace poresph {
+
+namespace {
+
+volatile std::sig_atomic_t g_stopSignal = 0;
+
+extern "C" void onStopSignal(int sig) { g_stopSignal = sig; }
+
+/// Installs the SIGINT/SIGTERM handlers for the lifetime of the object. SA_RESETHAND: the
+/// first signal asks for a clean stop, a second one gets the default action (terminates).
+class SignalGuard {
+ public:
+  explicit SignalGuard(bool active) : active_(active) {
+    g_stopSignal = 0;
+    if (!active_) return;
+    struct sigaction sa;
+    std::memset(&sa, 0, sizeof(sa));
+    sa.sa_handler = onStopSignal;
+    sigemptyset(&sa.sa_mask);
+    sa.sa_flags = SA_RESETHAND;
+    sigaction(SIGINT, &sa, &oldInt_);
+    sigaction(SIGTERM, &sa, &oldTerm_);
+  }
+  ~SignalGuard() {
+    if (!active_) return;
+    sigaction(SIGINT, &oldInt_, nullptr);
+    sigaction(SIGTERM, &oldTerm_, nullptr);
+  }
+  SignalGuard(const SignalGuard&) = delete;
+  SignalGuard& operator=(const SignalGuard&) = delete;
+
+ private:
+  bool active_;
+  struct sigaction oldInt_ {};
+  struct sigaction oldTerm_ {};
+};
+
+/// A copy of the real particles' fields and the clock, taken before each step so that a failed
+/// step can be rolled back. Buffers are reused: after the first steps (while the integrator
+/// registers its scratch fields) capture() does not allocate unless the particle count grows.
+class LastGoodState {
+ public:
+  void capture(const Simulation& sim) {
+    const ParticleStore& st = sim.store;
+    const auto& specs = st.fields();
+    if (real_.size() != specs.size()) {
+      real_.resize(specs.size());
+      int_.resize(specs.size());
+    }
+    n_ = st.realCount();
+    for (size_t f = 0; f < specs.size(); ++f) {
+      const size_t count = static_cast<size_t>(n_) * static_cast<size_t>(specs[f].components);
+      if (specs[f].type == FieldType::Real) {
+        const double* p = st.data(RealField{static_cast<int>(f)});
+        real_[f].assign(p, p + count);
+      } else {
+        const std::int32_t* p = st.data(IntField{static_cast<int>(f)});
+        int_[f].assign(p, p + count);
+      }
+    }
+    time_ = sim.time;
+    dt_ = sim.dt;
+    step_ = sim.step;
+    valid_ = true;
+  }
+  /// Puts the captured state back (ghosts removed). False if the particle count changed.
+  bool restore(Simulation& sim) const {
+    if (!valid_) return false;
+    ParticleStore& st = sim.store;
+    st.clearGhosts();
+    if (st.realCount() != n_) return false;
+    const auto& specs = st.fields();
+    for (size_t f = 0; f < specs.size() && f < real_.size(); ++f) {
+      if (specs[f].type == FieldType::Real) {
+        if (!real_[f].empty())
+          std::memcpy(st.data(RealField{static_cast<int>(f)}), real_[f].data(),
+                      real_[f].size() * sizeof(double));
+      } else if (!int_[f].empty()) {
+        std::memcpy(st.data(IntField{static_cast<int>(f)}), int_[f].data(),
+                    int_[f].size() * sizeof(std::int32_t));
+      }
+    }
+    sim.time = time_;
+    sim.dt = dt_;
+    sim.step = step_;
+    return true;
+  }
+
+ private:
+  std::vector<std::vector<double>> real_;
+  std::vector<std::vector<std::int32_t>> int_;
+  Index n_ = 0;
+  double time_ = 0.0, dt_ = 0.0;
+  Index step_ = 0;
+  bool valid_ = false;
+};
+
+std::string duration(double s) {
+  std::ostringstream o;
+  if (!std::isfinite(s)) return "?";
+  if (s < 60.0) {
+    o << std::fixed << std::setprecision(1) << s << " s";
+  } else if (s < 3600.0) {
+    o << static_cast<long>(s) / 60 << " min " << static_cast<long>(s) % 60 << " s";
+  } else {
+    o << static_cast<long>(s) / 3600 << " h " << (static_cast<long>(s) % 3600) / 60 << " min";
+  }
+  return o.str();
+}
+
+}  // namespace
+
+void requestStop(int signal) { g_stopSignal = signal == 0 ? SIGTERM : signal; }
+
+RunResult runScene(Scene& scene, const RunOptions& options) {
+  using Clock = std::chrono::steady_clock;
+  Simulation& sim = *scene.sim;
+  RunResult result;
+  std::ostream* log = options.progress;
+
+  std::unique_ptr<Integrator> integrator = makeIntegrator(scene.integrator);
+  if (!options.restartFrom.empty()) {
+    readCheckpoint(sim, options.restartFrom);
+    integrator->invalidate();
+    if (log)
+      *log << "poresph: restarted from " << options.restartFrom << " at step " << sim.step
+           << ", time " << sim.time << " s\n";
+  }
+  OutputWriter writer(options.outDir);
+  const std::string checkpointPath = options.outDir + "/checkpoint.h5";
+
+  const OutputSettings& out = scene.output;
+  Index lastOutputStep = -1;
+  double nextOutputTime = 0.0;
+  auto scheduleNext = [&] {
+    if (out.everyTime > 0.0)
+      nextOutputTime =
+          (std::floor(sim.time / out.everyTime + 1e-9) + 1.0) * out.everyTime;
+  };
+  auto writeOutput = [&] {
+    result.lastSnapshot = writer.writeSnapshot(sim);
+    writer.appendTimeseries(sim);
+    lastOutputStep = sim.step;
+    ++result.snapshots;
+    scheduleNext();
+  };
+  auto outputDue = [&] {
+    if (out.everySteps > 0) return sim.step % out.everySteps == 0;
+    return sim.time >= nextOutputTime - 1e-9 * out.everyTime;
+  };
+
+  SignalGuard signals(options.handleSignals);
+  const auto start = Clock::now();
+  auto lastProgress = start;
+  const double startTime = sim.time;
+  const Index startStep = sim.step;
+  auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
+
+  writeOutput();  // the initial (or restarted) state
+  LastGoodState lastGood;
+
+  while (!scene.finished()) {
+    lastGood.capture(sim);
+    try {
+      const double dt = scene.nextTimeStep();
+      integrator->step(sim, dt);
+      sim.checkFinite();
+    } catch (const NumericalError& e) {
+      result.status = RunStatus::Failed;
+      result.message = e.what();
+      const bool restored = lastGood.restore(sim);
+      if (log)
+        *log << "\nporesph: numerical failure: " << e.what() << "\n"
+             << (restored ? "poresph: writing the last good state (step " +
+                                std::to_string(sim.step) + ", time " + std::to_string(sim.time) +
+                                " s)\n"
+                          : "poresph: the last good state could not be restored (particle "
+                            "count changed); writing the state as it is\n");
+      writeCheckpoint(sim, checkpointPath);
+      result.checkpoint = checkpointPath;
+      if (lastOutputStep != sim.step || !restored) {
+        result.lastSnapshot = writer.writeSnapshot(sim);
+        ++result.snapshots;
+      }
+      if (log)
+        *log << "poresph: checkpoint " << checkpointPath << ", last snapshot "
+             << result.lastSnapshot << "\n";
+      break;
+    }
+    if (outputDue()) writeOutput();
+
+    const auto now = Clock::now();
+    if (log && std::chrono::duration<double>(now - lastProgress).count() >=
+                   options.progressInterval) {
+      lastProgress = now;
+      const double wall = elapsed();
+      const double done = sim.time - startTime;
+      double left = done > 0.0 ? wall / done * (scene.endTime - sim.time) : NAN;
+      if (scene.maxSteps > 0 && sim.step > startStep)
+        left = std::min(left, wall / static_cast<double>(sim.step - startStep) *
+                                  static_cast<double>(scene.maxSteps - sim.step));
+      *log << "step " << sim.step << "  t = " << std::setprecision(6) << sim.time
+           << " s  dt = " << std::setprecision(4) << sim.dt << " s  wall " << duration(wall)
+           << "  left ~" << duration(left) << std::endl;
+    }
+    if (g_stopSignal != 0) {
+      result.status = RunStatus::Interrupted;
+      result.signal = static_cast<int>(g_stopSignal);
+      break;
+    }
+  }
+
+  if (result.status != RunStatus::Failed) {
+    if (lastOutputStep != sim.step) writeOutput();
+    writeCheckpoint(sim, checkpointPath);
+    result.checkpoint = checkpointPath;
+    if (log && result.status == RunStatus::Interrupted)
+      *log << "\nporesph: stopped by signal " << result.signal << " after step " << sim.step
+           << " (time " << sim.time << " s); checkpoint " << checkpointPath
+           << " (resume with --restart " << checkpointPath << ")\n";
+  }
+  result.steps = sim.step - startStep;
+  result.time = sim.time;
+  result.wallSeconds = elapsed();
+  return result;
+}
+
+}  // namespace poresph

@@ -1,0 +1,51 @@
+#pragma once
+// The time loop of a run (what `poresph run` calls).
+//
+// Each step: dt (fixed, or cfl x the stable limit, never past end_time: Scene::nextTimeStep),
+// one integrator step (libcore/integrator.hpp), sim.checkFinite(), output at the scene's cadence
+// (snapshot + timeseries row), a progress line at most every `progressInterval` seconds.
+// Stops at end_time (or max_steps), on a NumericalError (the state before the failed step is
+// restored, then written as a checkpoint and a snapshot), or when SIGINT/SIGTERM arrive (the
+// step in progress is finished, then a checkpoint is written). A second signal kills at once.
+//
+// The loop does not allocate beyond what the store and neighbour lists need: the copy of the
+// last good state (for the failure snapshot) reuses its buffers, and output allocates only when
+// it writes.
+#include <iosfwd>
+#include <string>
+
+#include "libcore/scene.hpp"
+
+namespace poresph {
+
+struct RunOptions {
+  std::string outDir;                 ///< snapshots/, results.pvd, timeseries.csv, checkpoint.h5
+  std::ostream* progress = nullptr;   ///< progress and status lines (nullptr: silent)
+  double progressInterval = 1.0;      ///< seconds of wall time between progress lines
+  bool handleSignals = true;          ///< install SIGINT/SIGTERM handlers for the run
+  std::string restartFrom;            ///< checkpoint to resume from ("" : start at t = 0)
+};
+
+enum class RunStatus { Finished, Interrupted, Failed };
+
+struct RunResult {
+  RunStatus status = RunStatus::Finished;
+  Index steps = 0;            ///< steps taken by this call
+  double time = 0.0;          ///< simulated time reached (of the last good state)
+  int signal = 0;             ///< the signal that interrupted the run
+  std::string checkpoint;     ///< checkpoint written (final, on interrupt or on failure)
+  std::string lastSnapshot;   ///< last .vtu written
+  std::string message;        ///< the NumericalError's text when Failed
+  double wallSeconds = 0.0;
+  long long snapshots = 0;
+};
+
+/// Runs `scene` (loaded with initialise = true) to its end. Throws InputError for bad input (an
+/// unknown integrator, an unwritable output directory, a checkpoint that does not match).
+RunResult runScene(Scene& scene, const RunOptions& options);
+
+/// Asks a running runScene() to stop after the step in progress (what the signal handlers do;
+/// also usable from tests). `signal` is reported in RunResult::signal.
+void requestStop(int signal);
+
+}  // namespace poresph

@@ -1,0 +1,503 @@
+#include "libcore/scene.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <map>
+#include <sstream>
+
+#include "libcore/corrections.hpp"
+#include "libcore/integrator.hpp"
+
+namespace poresph {
+
+namespace {
+
+std::string fmt(double v) {
+  std::ostringstream s;
+  s.precision(6);
+  s << v;
+  return s.str();
+}
+
+std::string joined(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
+  return s;
+}
+
+std::vector<std::string> knownKernels() {
+  return {"cubic_spline", "gaussian", "wendland_c2", "quintic_spline"};
+}
+
+std::vector<std::string> knownModels() {
+  std::vector<std::string> out;
+  for (const auto& name : ModuleRegistry::names()) {
+    auto m = ModuleRegistry::create(name);
+    for (const auto& model : m->materialModels()) out.push_back(model);
+  }
+  return out;
+}
+
+/// A list of `dim` booleans (periodic flags).
+std::array<bool, 3> readFlags(const ParameterSet& ps, const std::string& key, int dim) {
+  std::array<bool, 3> out{false, false, false};
+  if (!ps.has(key)) {
+    ps.boolean(key, false);  // marks the key as read
+    return out;
+  }
+  const YAML::Node n = ps.raw(key);
+  if (!n.IsSequence() || static_cast<int>(n.size()) != dim)
+    ps.fail(key, "expected a list of " + std::to_string(dim) + " true/false values, one per axis");
+  for (int a = 0; a < dim; ++a) {
+    bool v = false;
+    if (!n[static_cast<size_t>(a)].IsScalar() ||
+        !YAML::convert<bool>::decode(n[static_cast<size_t>(a)], v))
+      ps.fail(key, "expected a list of " + std::to_string(dim) + " true/false values, one per axis");
+    out[static_cast<size_t>(a)] = v;
+  }
+  return out;
+}
+
+std::array<double, 3> toArray(const std::vector<double>& v) {
+  std::array<double, 3> a{0.0, 0.0, 0.0};
+  for (size_t k = 0; k < v.size() && k < 3; ++k) a[k] = v[k];
+  return a;
+}
+
+YAML::Node seq(const std::array<double, 3>& a, int dim) {
+  YAML::Node n(YAML::NodeType::Sequence);
+  for (int k = 0; k < dim; ++k) n.push_back(a[static_cast<size_t>(k)]);
+  n.SetStyle(YAML::EmitterStyle::Flow);
+  return n;
+}
+
+const char* motionName(std::int32_t m) {
+  switch (m) {
+    case kMotionFixed: return "fixed";
+    case kMotionPrescribed: return "prescribed";
+    default: return "free";
+  }
+}
+
+Scene buildScene(const YAML::Node& root, const std::string& file, const SceneOptions& options) {
+  Scene scene;
+  scene.file = file;
+  scene.source = root;
+  if (!root.IsDefined() || root.IsNull())
+    throw InputError(file + ":1: the scene is empty (expected a mapping of key: value)");
+  const ParameterSet top(root, file, "");
+  YAML::Node& res = scene.resolved;
+
+  // ---- dimension, domain, lattice, kernel ----
+  const int dim = static_cast<int>(top.integer("dimension", 1, 3));
+  res["dimension"] = dim;
+  scene.sim = std::make_unique<Simulation>(dim);
+  Simulation& sim = *scene.sim;
+
+  {
+    const ParameterSet d = top.section("domain");
+    const auto lo = d.reals("lo", static_cast<size_t>(dim));
+    const auto hi = d.reals("hi", static_cast<size_t>(dim));
+    for (int a = 0; a < dim; ++a)
+      if (!(hi[static_cast<size_t>(a)] > lo[static_cast<size_t>(a)]))
+        d.fail("hi", std::string("must exceed domain.lo along every axis (axis ") + "xyz"[a] +
+                         ": lo = " + fmt(lo[static_cast<size_t>(a)]) + ", hi = " +
+                         fmt(hi[static_cast<size_t>(a)]) + ")");
+    sim.domain.dimension = dim;
+    sim.domain.lo = toArray(lo);
+    sim.domain.hi = toArray(hi);
+    sim.domain.periodic = readFlags(d, "periodic", dim);
+    d.finish();
+    res["domain"]["lo"] = seq(sim.domain.lo, dim);
+    res["domain"]["hi"] = seq(sim.domain.hi, dim);
+    YAML::Node p(YAML::NodeType::Sequence);
+    for (int a = 0; a < dim; ++a) p.push_back(static_cast<bool>(sim.domain.periodic[static_cast<size_t>(a)]));
+    p.SetStyle(YAML::EmitterStyle::Flow);
+    res["domain"]["periodic"] = p;
+  }
+
+  sim.spacing = top.real("spacing", Range::positive());
+  scene.hOverDx = top.real("h_over_dx", 1.3, Range{0.5, 10.0, false, false});
+  scene.kernelName = top.choice("kernel", "cubic_spline", knownKernels());
+  sim.kernel = Kernel(parseKernelType(scene.kernelName), dim, scene.hOverDx * sim.spacing);
+  sim.correction = top.string("correction", "none");
+  if (top.has("correction")) parseCorrection(sim.correction, top.where("correction") + " = '" + sim.correction + "'");
+  res["spacing"] = sim.spacing;
+  res["h_over_dx"] = scene.hOverDx;
+  res["smoothing_length"] = sim.kernel.h();
+  res["kernel"] = scene.kernelName;
+  res["correction"] = sim.correction;
+
+  // ---- time ----
+  scene.integrator = top.choice("integrator", "leapfrog", integratorNames());
+  scene.endTime = top.real("end_time", Range::positive());
+  scene.maxSteps = top.integer("max_steps", 0, 0, std::numeric_limits<long>::max());
+  res["integrator"] = scene.integrator;
+  res["end_time"] = scene.endTime;
+  res["max_steps"] = scene.maxSteps;
+  std::string dtWhere;
+  {
+    const ParameterSet t = top.section("time_step");
+    dtWhere = t.where("dt");
+    scene.timeStep.adaptive = t.boolean("adaptive", false);
+    if (!scene.timeStep.adaptive && !t.has("dt"))
+      t.real("dt", Range::positive());  // throws: required key 'time_step.dt' is missing
+    scene.timeStep.dt = t.real("dt", 0.0, Range::positive());
+    scene.timeStep.cfl = t.real("cfl", 1.0, Range{0.0, 1.0, true, false});
+    if (!scene.timeStep.adaptive && t.has("cfl"))
+      t.fail("cfl", "is only used with adaptive: true (a fixed dt is checked against the "
+                    "modules' stable limit instead)");
+    t.finish();
+    res["time_step"]["adaptive"] = scene.timeStep.adaptive;
+    if (scene.timeStep.dt > 0.0) res["time_step"]["dt"] = scene.timeStep.dt;
+    if (scene.timeStep.adaptive) res["time_step"]["cfl"] = scene.timeStep.cfl;
+  }
+
+  // ---- output ----
+  {
+    const ParameterSet o = top.section("output");
+    scene.output.everySteps = o.integer("every_steps", 0, 1, std::numeric_limits<long>::max());
+    scene.output.everyTime = o.real("every_time", 0.0, Range::positive());
+    const bool steps = o.has("every_steps"), time = o.has("every_time");
+    if (steps == time)
+      o.fail(steps ? "every_time" : "every_steps",
+             "give exactly one of output.every_steps (snapshot every N steps) and "
+             "output.every_time (every T seconds)");
+    o.finish();
+    if (steps) res["output"]["every_steps"] = scene.output.everySteps;
+    else res["output"]["every_time"] = scene.output.everyTime;
+  }
+
+  // ---- materials -> modules ----
+  std::vector<double> rho0;
+  std::vector<std::string> moduleOrder;
+  std::map<std::string, std::vector<int>> materialsOf;
+  {
+    const std::vector<ParameterSet> mats = top.sectionList("materials");
+    if (mats.empty()) top.fail("materials", "needs at least one material");
+    std::vector<std::string> known;
+    for (size_t k = 0; k < mats.size(); ++k) {
+      const ParameterSet& m = mats[k];
+      Material mat;
+      mat.id = static_cast<int>(k);
+      mat.name = m.string("name");
+      if (mat.name == "none")
+        m.fail("name", "'none' is reserved (geometry regions with material: none subtract)");
+      for (const auto& other : sim.materials)
+        if (other.name == mat.name) m.fail("name", "a material of this name was defined before");
+      mat.model = m.string("model");
+      const std::string owner = ModuleRegistry::moduleForModel(mat.model);
+      if (owner.empty()) {
+        if (known.empty()) known = knownModels();
+        m.fail("model", "no physics module owns this material model (known models: " +
+                            (known.empty() ? std::string("none; no module is linked") : joined(known)) +
+                            ")");
+      }
+      rho0.push_back(m.real("density", Range::positive()));
+      mat.parameters = m;
+      if (!materialsOf.count(owner)) moduleOrder.push_back(owner);
+      materialsOf[owner].push_back(mat.id);
+      sim.materials.push_back(std::move(mat));
+    }
+  }
+  // Module sections: a top-level key named after a registered module.
+  std::map<std::string, ParameterSet> sections;
+  for (const auto& kv : root) {
+    const std::string key = kv.first.as<std::string>();
+    const auto names = ModuleRegistry::names();
+    if (std::find(names.begin(), names.end(), key) == names.end()) continue;
+    sections.emplace(key, top.section(key));
+    scene.moduleSections.push_back(key);
+    if (!materialsOf.count(key)) moduleOrder.push_back(key);
+  }
+
+  // ---- geometry ----
+  {
+    const std::vector<ParameterSet> regs = top.sectionList("geometry");
+    if (regs.empty()) top.fail("geometry", "needs at least one region");
+    for (size_t k = 0; k < regs.size(); ++k) {
+      const ParameterSet& g = regs[k];
+      Region r;
+      r.where = g.where("shape");
+      const std::string shape = g.choice("shape", {"box", "sphere"});
+      if (shape == "box") {
+        r.shape = Region::Shape::Box;
+        r.lo = toArray(g.reals("lo", static_cast<size_t>(dim)));
+        r.hi = toArray(g.reals("hi", static_cast<size_t>(dim)));
+        for (int a = 0; a < dim; ++a)
+          if (!(r.hi[static_cast<size_t>(a)] > r.lo[static_cast<size_t>(a)]))
+            g.fail("hi", std::string("must exceed lo along every axis (axis ") + "xyz"[a] + ")");
+      } else {
+        r.shape = Region::Shape::Sphere;
+        r.centre = toArray(g.reals("centre", static_cast<size_t>(dim)));
+        r.radius = g.real("radius", Range::positive());
+      }
+      const std::string material = g.string("material");
+      if (material == "none") {
+        r.material = -1;
+        if (g.has("motion")) g.fail("motion", "a subtracting region (material: none) has no motion");
+        if (g.has("velocity"))
+          g.fail("velocity", "a subtracting region (material: none) has no velocity");
+      } else {
+        r.material = -2;
+        for (const auto& m : sim.materials)
+          if (m.name == material) r.material = m.id;
+        if (r.material == -2) {
+          std::vector<std::string> names;
+          for (const auto& m : sim.materials) names.push_back(m.name);
+          g.fail("material", "no material of this name (defined: " + joined(names) +
+                                 "; or 'none' to subtract)");
+        }
+        const std::string motion = g.choice("motion", "free", {"free", "fixed", "prescribed"});
+        r.motion = motion == "fixed" ? kMotionFixed
+                   : motion == "prescribed" ? kMotionPrescribed : kMotionFree;
+        if (g.has("velocity")) r.velocity = toArray(g.reals("velocity", static_cast<size_t>(dim)));
+      }
+      g.finish();
+      YAML::Node e;
+      e["shape"] = shape;
+      if (shape == "box") {
+        e["lo"] = seq(r.lo, dim);
+        e["hi"] = seq(r.hi, dim);
+      } else {
+        e["centre"] = seq(r.centre, dim);
+        e["radius"] = r.radius;
+      }
+      e["material"] = material;
+      if (r.material >= 0) {
+        e["motion"] = motionName(r.motion);
+        e["velocity"] = seq(r.velocity, dim);
+      }
+      res["geometry"].push_back(e);
+      scene.regions.push_back(r);
+    }
+  }
+
+  top.finish();
+
+  // ---- modules: configure in order of first use (materials first, then section-only ones) ----
+  for (const auto& name : moduleOrder) {
+    std::unique_ptr<Module> m = ModuleRegistry::create(name);
+    std::vector<const Material*> mats;
+    for (int id : materialsOf[name]) mats.push_back(&sim.materials[static_cast<size_t>(id)]);
+    auto sec = sections.find(name);
+    const ParameterSet* section = sec == sections.end() ? nullptr : &sec->second;
+    m->configure(sim, mats, section);
+    // Modules call finish() themselves; doing it again here catches one that forgot.
+    for (const Material* mat : mats) mat->parameters.finish();
+    if (section) section->finish();
+    sim.addModule(std::move(m));
+    res["modules"].push_back(name);
+  }
+  for (const auto& m : sim.materials) {
+    YAML::Node e = YAML::Clone(root["materials"][static_cast<size_t>(m.id)]);
+    res["materials"].push_back(e);
+  }
+  for (const auto& name : scene.moduleSections) res[name] = YAML::Clone(root[name]);
+
+  // ---- particles ----
+  LatticeFill fill;
+  try {
+    fill = fillLattice(scene.regions, sim.domain, sim.spacing);
+  } catch (const InputError& e) {
+    throw InputError(top.where("geometry") + ": " + e.what());
+  }
+  if (fill.count() == 0)
+    throw InputError(top.where("geometry") +
+                     ": the regions hold no particle (every lattice site of spacing " +
+                     fmt(sim.spacing) + " m is outside the regions or subtracted)");
+  ParticleStore& st = sim.store;
+  const Index first = st.addParticles(fill.count());
+  double cellVolume = 1.0;
+  for (int a = 0; a < dim; ++a) cellVolume *= sim.spacing;
+  scene.particlesPerMaterial.assign(sim.materials.size(), 0);
+  double* x = st.data(st.position());
+  double* v = st.data(st.velocity());
+  double* mass = st.data(st.mass());
+  double* rho = st.data(st.density());
+  std::int32_t* matId = st.data(st.material());
+  std::int32_t* motion = st.data(sim.motion);
+  for (Index k = 0; k < fill.count(); ++k) {
+    const Index i = first + k;
+    const Region& r = scene.regions[static_cast<size_t>(fill.region[static_cast<size_t>(k)])];
+    for (int a = 0; a < dim; ++a) {
+      x[i * dim + a] = fill.position[static_cast<size_t>(k * dim + a)];
+      v[i * dim + a] = r.velocity[static_cast<size_t>(a)];
+    }
+    const double r0 = rho0[static_cast<size_t>(r.material)];
+    mass[i] = r0 * cellVolume;  // m = rho0 dx^D
+    rho[i] = r0;
+    matId[i] = r.material;
+    motion[i] = r.motion;
+    ++scene.particlesPerMaterial[static_cast<size_t>(r.material)];
+  }
+
+  if (options.initialise) {
+    initialiseScene(scene);
+    if (!scene.timeStep.adaptive && scene.timeStep.dt > scene.initialStableTimeStep) {
+      std::ostringstream msg;
+      msg.precision(6);
+      msg << dtWhere << " = '" << scene.timeStep.dt << "': the fixed time step " << scene.timeStep.dt
+          << " s exceeds the stable limit " << scene.initialStableTimeStep << " s of "
+          << scene.stableLimitModule
+          << " (CFL conditions, thesis Eqs. 2.49-2.50); lower time_step.dt to at most "
+          << scene.initialStableTimeStep << " s or set time_step.adaptive: true";
+      throw InputError(msg.str());
+    }
+  }
+  return scene;
+}
+
+}  // namespace
+
+void initialiseScene(Scene& scene) {
+  Simulation& sim = *scene.sim;
+  sim.updateNeighbours();
+  for (auto& m : sim.modules) m->initialise(sim);
+  sim.evaluateRates();
+  // Eq. 2.49 (velocity and acceleration) for every particle, then each module's own limits.
+  scene.initialStableTimeStep = cflTimeStep(sim, sim.kernel.h());
+  scene.stableLimitModule = "CFL of Eq. 2.49";
+  for (const auto& m : sim.modules) {
+    const double limit = m->timeStepLimit(sim);
+    if (limit < scene.initialStableTimeStep) {
+      scene.initialStableTimeStep = limit;
+      scene.stableLimitModule = "module '" + m->name() + "'";
+    }
+  }
+}
+
+Scene loadSceneText(const std::string& text, const std::string& fileName,
+                    const SceneOptions& options) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw InputError(fileName + ":" + std::to_string(e.mark.line + 1) + ":" +
+                     std::to_string(e.mark.column + 1) + ": malformed YAML: " + e.msg);
+  }
+  try {
+    return buildScene(root, fileName, options);
+  } catch (const YAML::Exception& e) {
+    throw InputError(fileName + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg);
+  }
+}
+
+Scene loadScene(const std::string& path, const SceneOptions& options) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open the scene file (missing or unreadable)");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return loadSceneText(text.str(), path, options);
+}
+
+double Scene::nextTimeStep() const {
+  const Simulation& s = *sim;
+  const double remaining = endTime - s.time;
+  double dt = timeStep.dt;
+  if (timeStep.adaptive) {
+    const double limit = timeStep.cfl * std::min(s.stableTimeStep(), cflTimeStep(s, s.kernel.h()));
+    dt = timeStep.dt > 0.0 ? std::min(timeStep.dt, limit) : limit;
+    if (!(dt > 0.0) || !std::isfinite(dt)) {
+      std::ostringstream m;
+      m << "the adaptive time step is " << dt << " s at step " << s.step << ", time " << s.time
+        << " s (stable limit " << std::min(s.stableTimeStep(), cflTimeStep(s, s.kernel.h()))
+        << " s); no module limits the step (give time_step.dt as a cap) or the state blew up";
+      throw NumericalError(m.str());
+    }
+  }
+  // Land on end_time exactly; avoid a sliver of a last step.
+  if (remaining < dt * (1.0 + 1e-9)) dt = remaining;
+  return dt;
+}
+
+bool Scene::finished() const {
+  if (maxSteps > 0 && sim->step >= maxSteps) return true;
+  return sim->time >= endTime * (1.0 - 1e-12);
+}
+
+Index latticeNeighbourCount(int dimension, double supportOverDx) {
+  const long r = static_cast<long>(std::ceil(supportOverDx)) + 1;
+  Index count = 0;
+  const long rz = dimension > 2 ? r : 0, ry = dimension > 1 ? r : 0;
+  for (long k = -rz; k <= rz; ++k)
+    for (long j = -ry; j <= ry; ++j)
+      for (long i = -r; i <= r; ++i) {
+        const double d2 = static_cast<double>(i * i + j * j + k * k);
+        if (d2 > 0.0 && d2 < supportOverDx * supportOverDx) ++count;
+      }
+  return count;
+}
+
+std::string resolvedSceneYaml(const Scene& scene) {
+  YAML::Emitter e;
+  e << YAML::Comment("PoreSPH " PORESPH_VERSION ": every scene value used by this run, defaults "
+                     "included (scene: " + scene.file + ")");
+  e << scene.resolved;
+  return std::string(e.c_str()) + "\n";
+}
+
+std::string describeScene(const Scene& scene) {
+  const Simulation& sim = *scene.sim;
+  const int dim = sim.dimension();
+  std::ostringstream o;
+  o.precision(6);
+  o << "scene:        " << scene.file << "\n";
+  o << "dimension:    " << dim << "\n";
+  o << "domain:       ";
+  for (int a = 0; a < dim; ++a)
+    o << (a ? " x " : "") << "[" << sim.domain.lo[static_cast<size_t>(a)] << ", "
+      << sim.domain.hi[static_cast<size_t>(a)] << "]" << (sim.domain.periodic[static_cast<size_t>(a)] ? " periodic" : "");
+  o << " m\n";
+  o << "spacing:      dx = " << sim.spacing << " m, h = " << sim.kernel.h() << " m (h/dx = "
+    << scene.hOverDx << "), kernel " << scene.kernelName << " (support " << sim.kernel.support()
+    << " m), correction " << sim.correction << "\n";
+  o << "particles:    " << sim.store.realCount() << "\n";
+  for (const auto& m : sim.materials)
+    o << "  " << std::left << std::setw(16) << m.name << std::right << std::setw(12)
+      << scene.particlesPerMaterial[static_cast<size_t>(m.id)] << "  (model " << m.model << ")\n";
+  o << "modules:      ";
+  if (sim.modules.empty()) o << "(none)";
+  for (size_t k = 0; k < sim.modules.size(); ++k) o << (k ? ", " : "") << sim.modules[k]->name();
+  o << "\n";
+  o << "fields:       " << sim.store.fields().size() << "\n";
+  for (const auto& f : sim.store.fields()) {
+    std::string flags;
+    if (f.flags & kFieldOutput) flags += " output";
+    if (f.flags & kFieldCheckpoint) flags += " checkpoint";
+    if (f.flags & kFieldToGhosts) flags += " ghosts";
+    o << "  " << std::left << std::setw(24) << f.name << std::setw(5)
+      << (f.type == FieldType::Real ? "real" : "int") << std::right << std::setw(3) << f.components
+      << " x " << std::left << std::setw(8)
+      << (f.type == FieldType::Real ? "8 bytes" : "4 bytes") << " owner " << std::setw(10)
+      << f.owner << flags << std::right << "\n";
+  }
+  const std::size_t bpp = sim.store.bytesPerParticle();
+  o << "bytes/particle: " << bpp << " (fields), "
+    << fmt(static_cast<double>(bpp) * static_cast<double>(sim.store.realCount()) / 1048576.0)
+    << " MiB for all particles\n";
+  const double sOverDx = sim.kernel.support() / sim.spacing;
+  o << "neighbours:   ~" << latticeNeighbourCount(dim, sOverDx)
+    << " per interior particle (lattice estimate, support " << fmt(sOverDx) << " dx)";
+  if (sim.neighbours.realCount() > 0)
+    o << ", measured mean " << fmt(static_cast<double>(sim.neighbours.pairCount()) /
+                                   static_cast<double>(sim.neighbours.realCount()))
+      << ", list " << fmt(static_cast<double>(sim.neighbours.bytes()) / 1048576.0) << " MiB";
+  o << "\n";
+  o << "time:         end_time " << scene.endTime << " s, integrator " << scene.integrator << ", ";
+  if (scene.timeStep.adaptive)
+    o << "adaptive dt (cfl " << scene.timeStep.cfl << (scene.timeStep.dt > 0 ? ", cap " + fmt(scene.timeStep.dt) + " s" : std::string()) << ")";
+  else
+    o << "fixed dt " << scene.timeStep.dt << " s (~" << std::llround(std::ceil(scene.endTime / scene.timeStep.dt)) << " steps)";
+  if (std::isfinite(scene.initialStableTimeStep))
+    o << ", stable limit " << scene.initialStableTimeStep << " s (" << scene.stableLimitModule << ")";
+  o << "\n";
+  o << "output:       ";
+  if (scene.output.everySteps > 0) o << "every " << scene.output.everySteps << " steps\n";
+  else o << "every " << scene.output.everyTime << " s\n";
+  return o.str();
+}
+
+}  // namespace poresph
