@@ -422,58 +422,6 @@ void ElasticSolidModule::initialiseDim(Simulation& sim) {
   auto volume = [&](Index i) { return m[i] / mats_[static_cast<size_t>(slotOf(mat[i]))].density; };
   const Kernel& W = sim.kernel;
 
-  // Imposed traction / pressure: nominal force per particle (reference configuration). The
-  // outward normal of a pressure boundary is -grad(sum_b V_b W_ab) (the Shepard sum decreases
-  // outwards).
-  double* f = s.data(bcForce_);
-  std::memset(f, 0, sizeof(double) * static_cast<size_t>(n * D));
-  for (Index k = 0; k < nm; ++k) {
-    const Index i = mine[static_cast<size_t>(k)];
-    if (bc[i] == 0) continue;
-    const Boundary& B = boundaries_[static_cast<size_t>(bc[i] - 1)];
-    if (B.type != BoundaryType::Traction && B.type != BoundaryType::Pressure) continue;
-    const double area = B.area > 0.0 ? B.area : std::pow(sim.spacing, D - 1);
-    Vec<D> force;
-    if (B.type == BoundaryType::Traction) {
-      for (int a = 0; a < D; ++a) force[a] = B.value[static_cast<size_t>(a)] * area;
-    } else {
-      Vec<D> g = Vec<D>::Zero();
-      const Vec<D> Xi = Eigen::Map<const Vec<D>>(X + i * D);
-      for (auto p = ref.offset[static_cast<size_t>(k)]; p < ref.offset[static_cast<size_t>(k) + 1]; ++p) {
-        const Index j = mine[ref.index[static_cast<size_t>(p)]];
-        const Vec<D> r = Xi - Eigen::Map<const Vec<D>>(X + j * D);
-        g += volume(j) * W.gradient<D>(r);
-      }
-      // -p A n. S = sum_b V_b W_ab (Shepard sum) and sum_a V_a grad S_a ~ int_body grad S dV =
-      // oint S n dA = (1/2) A n: S is one half on a plane surface (half of the kernel's mass is
-      // outside). Hence the area vector of a particle is A_a n_a = -2 V_a grad S_a, and the
-      // particles within one support of the surface share the surface's area smoothly (a
-      // one-layer selection on a curved lattice is ragged: +-5 % in its total area).
-      force = 2.0 * B.pressure * volume(i) * g;
-    }
-    for (int a = 0; a < D; ++a) f[i * D + a] = force[a];
-  }
-
-  if (formulation_ != Formulation::TotalLagrangian) return;
-
-  // ---- Total-Lagrangian reference family with corrected gradients (Eqs. 2.67-2.68) ----
-  int cap = 1;
-  for (Index k = 0; k < nm; ++k)
-    cap = std::max<int>(cap, static_cast<int>(ref.offset[static_cast<size_t>(k) + 1] -
-                                             ref.offset[static_cast<size_t>(k)]));
-  if (familyCapacity_ != 0 && familyCapacity_ != cap)
-    throw std::logic_error("solid module: initialise() called twice with different families");
-  familyCapacity_ = cap;
-  family_ = s.addInt("solid_family", cap, kInternal, "solid");
-  familyCount_ = s.addInt("solid_family_count", 1, kInternal, "solid");
-  famGrad_ = s.addReal("solid_family_gradient", cap * D, kInternal, "solid");
-  famRevGrad_ = s.addReal("solid_family_reverse_gradient", cap * D, kInternal, "solid");
-  std::int32_t* fam = s.data(family_);
-  std::int32_t* famN = s.data(familyCount_);
-  double* G = s.data(famGrad_);
-  double* GR = s.data(famRevGrad_);
-  const std::int32_t* ids = s.data(s.id());
-  std::memset(famN, 0, sizeof(std::int32_t) * static_cast<size_t>(n));
   // Corrected reference gradients g_ab = grad~_{a,0} W~_{ab,0} (mixed correction 2.63b, computed
   // by libcore/corrections on the reference positions of the solid particles).
   std::vector<double> Vm(static_cast<size_t>(nm));
@@ -498,6 +446,59 @@ void ElasticSolidModule::initialiseDim(Simulation& sim) {
     std::sort(list.begin(), list.end(),
               [](const auto& a, const auto& b) { return a.first < b.first; });
   }
+  // Imposed traction / pressure: nominal force per particle (reference configuration). The
+  // outward normal of a pressure boundary is -grad(sum_b V_b W_ab) (the Shepard sum decreases
+  // outwards).
+  double* f = s.data(bcForce_);
+  std::memset(f, 0, sizeof(double) * static_cast<size_t>(n * D));
+  for (Index k = 0; k < nm; ++k) {
+    const Index i = mine[static_cast<size_t>(k)];
+    if (bc[i] == 0) continue;
+    const Boundary& B = boundaries_[static_cast<size_t>(bc[i] - 1)];
+    if (B.type != BoundaryType::Traction && B.type != BoundaryType::Pressure) continue;
+    const double area = B.area > 0.0 ? B.area : std::pow(sim.spacing, D - 1);
+    Vec<D> force;
+    if (B.type == BoundaryType::Traction) {
+      for (int a = 0; a < D; ++a) force[a] = B.value[static_cast<size_t>(a)] * area;
+    } else {
+      // Consistent nodal load: the force that balances the discrete internal force (2.76) of a
+      // uniform stress -p 1, f_a = p V_a sum_b V_b (g_ab - g_ba). It is non-zero only within a
+      // support of a free surface; selecting the particles within one support of the loaded
+      // surface applies the pressure there, and a body under uniform pressure on all its
+      // surfaces is then in exact discrete equilibrium.
+      Vec<D> g = Vec<D>::Zero();
+      for (const auto& pr : pairs[static_cast<size_t>(k)]) {
+        const Index kj = pr.first;
+        const auto& other = pairs[static_cast<size_t>(kj)];
+        auto it = std::lower_bound(other.begin(), other.end(), k,
+                                   [](const auto& e, Index key) { return e.first < key; });
+        g += volume(mine[static_cast<size_t>(kj)]) * (pr.second - it->second);
+      }
+      force = B.pressure * volume(i) * g;
+    }
+    for (int a = 0; a < D; ++a) f[i * D + a] = force[a];
+  }
+
+  if (formulation_ != Formulation::TotalLagrangian) return;
+
+  // ---- Total-Lagrangian reference family with corrected gradients (Eqs. 2.67-2.68) ----
+  int cap = 1;
+  for (Index k = 0; k < nm; ++k)
+    cap = std::max<int>(cap, static_cast<int>(ref.offset[static_cast<size_t>(k) + 1] -
+                                             ref.offset[static_cast<size_t>(k)]));
+  if (familyCapacity_ != 0 && familyCapacity_ != cap)
+    throw std::logic_error("solid module: initialise() called twice with different families");
+  familyCapacity_ = cap;
+  family_ = s.addInt("solid_family", cap, kInternal, "solid");
+  familyCount_ = s.addInt("solid_family_count", 1, kInternal, "solid");
+  famGrad_ = s.addReal("solid_family_gradient", cap * D, kInternal, "solid");
+  famRevGrad_ = s.addReal("solid_family_reverse_gradient", cap * D, kInternal, "solid");
+  std::int32_t* fam = s.data(family_);
+  std::int32_t* famN = s.data(familyCount_);
+  double* G = s.data(famGrad_);
+  double* GR = s.data(famRevGrad_);
+  const std::int32_t* ids = s.data(s.id());
+  std::memset(famN, 0, sizeof(std::int32_t) * static_cast<size_t>(n));
 #pragma omp parallel for schedule(static)
   for (Index k = 0; k < nm; ++k) {
     const Index i = mine[static_cast<size_t>(k)];
