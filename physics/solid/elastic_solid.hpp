@@ -10,12 +10,15 @@
 //  - small_strain_displacement: Navier's equation (2.88) with the second-derivative operator of
 //    Eq. 2.46c / 2.89 (Eq. 2.90, written for 1D, 2D and 3D).
 // Plus Monaghan artificial viscosity (2.64-2.65), XSPH (2.66), viscous damping for dynamic
-// relaxation, boundary conditions (clamped, imposed velocity/displacement ramps, traction,
-// pressure) and energy bookkeeping. See docs/solid.md.
+// relaxation, TL hourglass control, boundary conditions (clamped and symmetry layers with mirror
+// images, imposed velocity/displacement ramps, traction, pressure) and energy bookkeeping. See
+// docs/solid.md.
 //
 // Fields registered (store names): reference_position, displacement, strain, stress (Cauchy),
 // internal_energy (+ _rate), solid_work (3: boundary work, external work, dissipated) (+ _rate),
-// solid_boundary (int, 1 + index of the boundary condition, 0 = none), solid_boundary_force;
+// solid_boundary (int, 1 + index of the boundary condition, 0 = none), solid_boundary_force,
+// solid_mirror_source (int, 1 + id of a layer particle's image; with mirror layers),
+// solid_xsph_velocity (with XSPH: a second rate of `position`);
 // TL: deformation_gradient, first_piola, solid_family (ids), solid_family_count,
 // solid_family_gradient, solid_family_reverse_gradient; small strain: density_rate and the
 // correction state solid_correction_{matrix,shepard_sum,shepard_gradient} (libcore/corrections).
