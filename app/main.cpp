@@ -1,6 +1,6 @@
 // poresph: the command line (docs/cli.md).
 //
-//   poresph run SCENE --out DIR [--threads N] [--force] [--restart CHECKPOINT]
+//   poresph run SCENE [--out DIR] [--threads N] [--force] [--restart CHECKPOINT]
 //   poresph info SCENE [--threads N]
 //   poresph --help | --version
 //
@@ -10,6 +10,7 @@
 
 #include <CLI/CLI.hpp>
 #include <csignal>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -61,10 +62,21 @@ int commandInfo(const std::string& scenePath) {
   return 0;
 }
 
-int commandRun(const std::string& scenePath, const std::string& outDir, bool force,
+/// runs/<scene name>-<UTC date>-<time>: a new folder per run when --out is not given.
+std::string defaultOutputDirectory(const std::string& scenePath) {
+  const std::time_t now = std::time(nullptr);
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  char stamp[32];
+  std::strftime(stamp, sizeof(stamp), "%Y%m%d-%H%M%S", &utc);
+  return "runs/" + fs::path(scenePath).stem().string() + "-" + stamp;
+}
+
+int commandRun(const std::string& scenePath, std::string outDir, bool force,
                const std::string& restart) {
   // Check the scene before touching the output directory.
   Scene scene = loadScene(scenePath);
+  if (outDir.empty()) outDir = defaultOutputDirectory(scenePath);
   prepareOutputDirectory(outDir, force);
   const fs::path sceneCopy = fs::path(outDir) / fs::path(scenePath).filename();
   std::error_code ec;
@@ -114,8 +126,9 @@ int main(int argc, char** argv) {
 
   CLI::App* run = app.add_subcommand("run", "Run a scene to its end_time");
   run->add_option("scene", scenePath, "Scene file (YAML, docs/scene-format.md)")->required();
-  run->add_option("--out,-o", outDir, "Output directory (refused if not empty, unless --force)")
-      ->required();
+  run->add_option("--out,-o", outDir,
+                  "Output directory (refused if not empty, unless --force; default "
+                  "runs/<scene>-<UTC date-time>)");
   run->add_option("--threads,-t", threads, "OpenMP threads (default: OMP_NUM_THREADS or all)")
       ->check(CLI::PositiveNumber);
   run->add_flag("--force,-f", force, "Write into a non-empty output directory");

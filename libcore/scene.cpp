@@ -66,9 +66,17 @@ std::array<double, 3> toArray(const std::vector<double>& v) {
   return a;
 }
 
+/// A real as a YAML scalar with 15 significant digits (0.1 stays 0.1 in run.yaml).
+YAML::Node num(double v) {
+  std::ostringstream s;
+  s.precision(15);
+  s << v;
+  return YAML::Node(s.str());
+}
+
 YAML::Node seq(const std::array<double, 3>& a, int dim) {
   YAML::Node n(YAML::NodeType::Sequence);
-  for (int k = 0; k < dim; ++k) n.push_back(a[static_cast<size_t>(k)]);
+  for (int k = 0; k < dim; ++k) n.push_back(num(a[static_cast<size_t>(k)]));
   n.SetStyle(YAML::EmitterStyle::Flow);
   return n;
 }
@@ -124,9 +132,9 @@ Scene buildScene(const YAML::Node& root, const std::string& file, const SceneOpt
   sim.kernel = Kernel(parseKernelType(scene.kernelName), dim, scene.hOverDx * sim.spacing);
   sim.correction = top.string("correction", "none");
   if (top.has("correction")) parseCorrection(sim.correction, top.where("correction") + " = '" + sim.correction + "'");
-  res["spacing"] = sim.spacing;
-  res["h_over_dx"] = scene.hOverDx;
-  res["smoothing_length"] = sim.kernel.h();
+  res["spacing"] = num(sim.spacing);
+  res["h_over_dx"] = num(scene.hOverDx);
+  res["smoothing_length"] = num(sim.kernel.h());
   res["kernel"] = scene.kernelName;
   res["correction"] = sim.correction;
 
@@ -135,7 +143,7 @@ Scene buildScene(const YAML::Node& root, const std::string& file, const SceneOpt
   scene.endTime = top.real("end_time", Range::positive());
   scene.maxSteps = top.integer("max_steps", 0, 0, std::numeric_limits<long>::max());
   res["integrator"] = scene.integrator;
-  res["end_time"] = scene.endTime;
+  res["end_time"] = num(scene.endTime);
   res["max_steps"] = scene.maxSteps;
   std::string dtWhere;
   {
@@ -151,8 +159,8 @@ Scene buildScene(const YAML::Node& root, const std::string& file, const SceneOpt
                     "modules' stable limit instead)");
     t.finish();
     res["time_step"]["adaptive"] = scene.timeStep.adaptive;
-    if (scene.timeStep.dt > 0.0) res["time_step"]["dt"] = scene.timeStep.dt;
-    if (scene.timeStep.adaptive) res["time_step"]["cfl"] = scene.timeStep.cfl;
+    if (scene.timeStep.dt > 0.0) res["time_step"]["dt"] = num(scene.timeStep.dt);
+    if (scene.timeStep.adaptive) res["time_step"]["cfl"] = num(scene.timeStep.cfl);
   }
 
   // ---- output ----
@@ -167,7 +175,7 @@ Scene buildScene(const YAML::Node& root, const std::string& file, const SceneOpt
              "output.every_time (every T seconds)");
     o.finish();
     if (steps) res["output"]["every_steps"] = scene.output.everySteps;
-    else res["output"]["every_time"] = scene.output.everyTime;
+    else res["output"]["every_time"] = num(scene.output.everyTime);
   }
 
   // ---- materials -> modules ----
@@ -263,7 +271,7 @@ Scene buildScene(const YAML::Node& root, const std::string& file, const SceneOpt
         e["hi"] = seq(r.hi, dim);
       } else {
         e["centre"] = seq(r.centre, dim);
-        e["radius"] = r.radius;
+        e["radius"] = num(r.radius);
       }
       e["material"] = material;
       if (r.material >= 0) {
@@ -490,7 +498,7 @@ std::string describeScene(const Scene& scene) {
   if (scene.timeStep.adaptive)
     o << "adaptive dt (cfl " << scene.timeStep.cfl << (scene.timeStep.dt > 0 ? ", cap " + fmt(scene.timeStep.dt) + " s" : std::string()) << ")";
   else
-    o << "fixed dt " << scene.timeStep.dt << " s (~" << std::llround(std::ceil(scene.endTime / scene.timeStep.dt)) << " steps)";
+    o << "fixed dt " << scene.timeStep.dt << " s (~" << std::llround(std::ceil(scene.endTime / scene.timeStep.dt - 1e-9)) << " steps)";
   if (std::isfinite(scene.initialStableTimeStep))
     o << ", stable limit " << scene.initialStableTimeStep << " s (" << scene.stableLimitModule << ")";
   o << "\n";

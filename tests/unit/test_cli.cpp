@@ -104,7 +104,7 @@ TEST_F(Cli, RefusesNonEmptyOutputDirectory) {
   fs::remove_all(out);
   fs::create_directories(out);
   std::ofstream(out / "precious.txt") << "keep me";
-  const Result r = runPoresph("run \"" + scene.string() + "\" --out \"" + out.string() + "\"");
+  const Result r = runPoresph("run \"" + scene.string() + "\" --out \"" + out.string() + "\" -t 1");
   EXPECT_EQ(r.code, 2) << r.output;
   EXPECT_NE(r.output.find("not empty"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find(out.string()), std::string::npos) << r.output;
@@ -152,7 +152,7 @@ TEST_F(Cli, RunsASceneEndToEnd) {
   const fs::path scene = writeScene("box_at_rest.yaml", kScene);
   const fs::path out = tmpDir() / "run_out";
   fs::remove_all(out);
-  Result r = runPoresph("run \"" + scene.string() + "\" --out \"" + out.string() + "\" --threads 2");
+  Result r = runPoresph("run \"" + scene.string() + "\" --out \"" + out.string() + "\" --threads 1");
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_TRUE(fs::exists(out / "box_at_rest.yaml"));
   EXPECT_TRUE(fs::exists(out / "results.pvd"));
@@ -177,8 +177,29 @@ TEST_F(Cli, RunsASceneEndToEnd) {
   EXPECT_NE(readFile(out / "run.log").find("status: finished"), std::string::npos);
 
   // A second run into the same directory is refused, then accepted with --force.
-  r = runPoresph("run \"" + scene.string() + "\" --out \"" + out.string() + "\"");
+  r = runPoresph("run \"" + scene.string() + "\" --out \"" + out.string() + "\" -t 1");
   EXPECT_EQ(r.code, 2) << r.output;
-  r = runPoresph("run \"" + scene.string() + "\" --out \"" + out.string() + "\" --force");
+  r = runPoresph("run \"" + scene.string() + "\" --out \"" + out.string() + "\" --force -t 1");
   EXPECT_EQ(r.code, 0) << r.output;
+}
+
+TEST_F(Cli, WithoutOutWritesANewFolderUnderRuns) {
+  const fs::path dir = tmpDir() / "default_out";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const fs::path scene = writeScene("default_out/short.yaml",
+                                    std::string(kScene) + "max_steps: 2\n");
+  const std::string cmd = "cd \"" + dir.string() + "\" && \"" + kBinary.string() +
+                          "\" run short.yaml -t 1 > log.txt 2>&1";
+  const int status = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0) << readFile(dir / "log.txt");
+  long runs = 0;
+  for (const auto& e : fs::directory_iterator(dir / "runs")) {
+    ++runs;
+    EXPECT_EQ(e.path().filename().string().rfind("short-", 0), 0u) << e.path();
+    EXPECT_TRUE(fs::exists(e.path() / "checkpoint.h5"));
+    EXPECT_TRUE(fs::exists(e.path() / "snapshots" / "step_00000002.vtu"));
+  }
+  EXPECT_EQ(runs, 1);
 }
