@@ -3,6 +3,7 @@
 // key named, and an end-to-end run of a small fluid scene (files written, parameters echoed).
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -27,7 +28,10 @@ struct Result {
 };
 
 Result runPoresph(const std::string& args) {
-  const fs::path log = tmpDir() / "last_output.txt";
+  // One log per process and call: ctest runs the tests of this file in parallel processes.
+  static int calls = 0;
+  const fs::path log =
+      tmpDir() / ("output_" + std::to_string(getpid()) + "_" + std::to_string(++calls) + ".txt");
   const std::string cmd = "\"" + kBinary.string() + "\" " + args + " > \"" + log.string() + "\" 2>&1";
   const int status = std::system(cmd.c_str());
   Result r;
@@ -36,6 +40,7 @@ Result runPoresph(const std::string& args) {
   std::ostringstream s;
   s << in.rdbuf();
   r.output = s.str();
+  fs::remove(log);
   return r;
 }
 
