@@ -7,6 +7,7 @@
 #include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "libcore/runner.hpp"
 
@@ -182,4 +183,21 @@ TEST(Runner, SigintFinishesTheStepAndWritesACheckpoint) {
   EXPECT_EQ(r.steps + r2.steps, 20);
   EXPECT_NEAR(again.sim->time, 0.01, 1e-15);
   expectFreeFall(*again.sim, again.sim->time);
+}
+
+TEST(Runner, ProgressLinesNameStepTimeDtWallAndTimeLeft) {
+  control = ProbeControl{};
+  Scene s = load("progress.yaml", scene("verlet", "{every_steps: 100}"));
+  std::ostringstream log;
+  RunOptions o = options("progress");
+  o.progress = &log;
+  o.progressInterval = 0.0;  // a line after every step
+  const RunResult r = runScene(s, o);
+  EXPECT_EQ(r.status, RunStatus::Finished);
+  const std::string text = log.str();
+  long lines = 0;
+  for (char c : text) lines += c == '\n';
+  EXPECT_EQ(lines, 20) << text;
+  EXPECT_NE(text.find("step 20  t = 0.01 s  dt = 0.0005 s  wall "), std::string::npos) << text;
+  EXPECT_NE(text.find("left ~"), std::string::npos) << text;
 }
