@@ -134,7 +134,6 @@ Scene buildScene(const YAML::Node& root, const std::string& file, const SceneOpt
   if (top.has("correction")) parseCorrection(sim.correction, top.where("correction") + " = '" + sim.correction + "'");
   res["spacing"] = num(sim.spacing);
   res["h_over_dx"] = num(scene.hOverDx);
-  res["smoothing_length"] = num(sim.kernel.h());
   res["kernel"] = scene.kernelName;
   res["correction"] = sim.correction;
 
@@ -297,7 +296,6 @@ Scene buildScene(const YAML::Node& root, const std::string& file, const SceneOpt
     for (const Material* mat : mats) mat->parameters.finish();
     if (section) section->finish();
     sim.addModule(std::move(m));
-    res["modules"].push_back(name);
   }
   for (const auto& m : sim.materials) {
     YAML::Node e = YAML::Clone(root["materials"][static_cast<size_t>(m.id)]);
@@ -440,9 +438,17 @@ Index latticeNeighbourCount(int dimension, double supportOverDx) {
 }
 
 std::string resolvedSceneYaml(const Scene& scene) {
+  const Simulation& sim = *scene.sim;
+  std::string modules;
+  for (const auto& m : sim.modules) modules += (modules.empty() ? "" : ", ") + m->name();
+  std::ostringstream h;
+  h.precision(15);
+  h << "PoreSPH " PORESPH_VERSION ": every scene value used by this run, defaults included\n"
+    << "(scene: " << scene.file << "). It is itself a valid scene file.\n"
+    << "smoothing length h = " << sim.kernel.h() << " m; modules in stage order: "
+    << (modules.empty() ? std::string("none") : modules);
   YAML::Emitter e;
-  e << YAML::Comment("PoreSPH " PORESPH_VERSION ": every scene value used by this run, defaults "
-                     "included (scene: " + scene.file + ")");
+  e << YAML::Comment(h.str());
   e << scene.resolved;
   return std::string(e.c_str()) + "\n";
 }

@@ -352,3 +352,15 @@ TEST(Scene, LatticeNeighbourEstimate) {
   // (8 > 6.76)), i.e. 5x5 - 1 self - 4 corners = 20.
   EXPECT_EQ(latticeNeighbourCount(2, 2.6), 20);
 }
+
+TEST(Scene, ResolvedSceneIsItselfAValidSceneThatBuildsTheSameParticles) {
+  Scene s = loadScene(writeScene("echo_src.yaml", std::string(kBase) + "probe:\n  tag: x\n"));
+  const std::string echo = resolvedSceneYaml(s);
+  EXPECT_NAMES(echo, "modules in stage order: probe");
+  EXPECT_NAMES(echo, "max_steps: 0");
+  Scene again = loadSceneText(echo, "run.yaml");
+  EXPECT_EQ(again.sim->store.realCount(), s.sim->store.realCount());
+  EXPECT_DOUBLE_EQ(again.sim->kernel.h(), s.sim->kernel.h());
+  const std::string twice = resolvedSceneYaml(again);
+  EXPECT_EQ(twice.substr(twice.find("# smoothing")), echo.substr(echo.find("# smoothing")));
+}
