@@ -1,5 +1,6 @@
 #include "physics/fluid/fluid_module.hpp"
 
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -263,10 +264,10 @@ void FluidModule::kinematicsD(Simulation& sim) {
   st.refreshGhosts(colourGradient);
   st.refreshGhosts(interface);
 
-  // Curvature kappa = -div(n_hat) (Eq. 1.6) in the difference form of Eq. 5.8, over the
-  // neighbours with a reliable normal (|n| h > threshold), renormalised by the same sum of a
-  // linear field so that the truncated set of neighbours gives the exact divergence of a linear
-  // field (Morris 2000).
+  // Curvature kappa = -div(n_hat) (Eq. 1.6) from the differences of unit normals as in Eq. 5.8,
+  // over the neighbours with a reliable normal (|n| h > threshold), with a moment-matrix
+  // correction so that the thin band of interface neighbours still gives the exact divergence of
+  // a linear field (without it the curvature of a 2D droplet at R/dx = 15 is ~10 % too large).
   const double h = W.h();
   const double thr = normalThreshold_ / h;
 #pragma omp parallel for schedule(static)
@@ -278,7 +279,10 @@ void FluidModule::kinematicsD(Simulation& sim) {
     const double nn = ni.norm();
     if (nn <= thr) continue;
     const Vec<D> ui = ni / nn;
-    double num = 0.0, den = 0.0;
+    // grad(n_hat) A from A M = sum_b V_b (n_hat_b - n_hat_a) (F r_ab)^T with the moment matrix
+    // M = -sum_b V_b F r_ab r_ab^T of the neighbours used (exact for a linear field even when
+    // those neighbours form a thin band along the interface); kappa = -tr(A).
+    Mat<D> G = Mat<D>::Zero(), M = Mat<D>::Zero();
     for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
       const Index j = nl.index[static_cast<size_t>(k)];
       if (ph[j] != kPhaseFluid || !itf[j]) continue;
@@ -290,10 +294,16 @@ void FluidModule::kinematicsD(Simulation& sim) {
       for (int a = 0; a < D; ++a) r[a] = x[i * D + a] - x[j * D + a];
       const double Vj = m[j] / rho[j];
       const double F = W.F(r.norm());
-      num += Vj * (nj / nnj - ui).dot(r) * F;
-      den += Vj * r.squaredNorm() * F;
+      G += (Vj * F) * (nj / nnj - ui) * r.transpose();
+      M -= (Vj * F) * r * r.transpose();
     }
-    kap[i] = den != 0.0 ? D * num / den : 0.0;
+    const double tr = M.trace();
+    if (tr <= 0.0) continue;
+    if (M.determinant() > 1e-4 * std::pow(tr / D, D)) {
+      kap[i] = -(G * M.inverse()).trace();
+    } else {
+      kap[i] = -G.trace() * D / tr;  // isotropic normalisation (Morris 2000)
+    }
   }
 }
 
