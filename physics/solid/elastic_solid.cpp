@@ -432,7 +432,7 @@ void ElasticSolidModule::initialiseDim(Simulation& sim) {
     computeCorrection<D>(Correction::Mixed, W, Xm.data(), Vm.data(), nm, ref, buffer.arrays());
   const CorrectionView view = buffer.view(Correction::Mixed, W);
   std::vector<std::vector<std::pair<Index, Vec<D>>>> pairs(static_cast<size_t>(nm));
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (nm > 512)
   for (Index k = 0; k < nm; ++k) {
     const Vec<D> Xi = Eigen::Map<const Vec<D>>(Xm.data() + k * D);
     const auto b0 = ref.offset[static_cast<size_t>(k)], b1 = ref.offset[static_cast<size_t>(k) + 1];
@@ -499,7 +499,7 @@ void ElasticSolidModule::initialiseDim(Simulation& sim) {
   double* GR = s.data(famRevGrad_);
   const std::int32_t* ids = s.data(s.id());
   std::memset(famN, 0, sizeof(std::int32_t) * static_cast<size_t>(n));
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (nm > 512)
   for (Index k = 0; k < nm; ++k) {
     const Index i = mine[static_cast<size_t>(k)];
     const auto& list = pairs[static_cast<size_t>(k)];
@@ -530,7 +530,7 @@ void ElasticSolidModule::rebuildIdMap(const Simulation& sim) {
   for (Index i = 0; i < n; ++i) maxId = std::max(maxId, ids[i]);
   if (idToIndex_.size() < static_cast<size_t>(maxId) + 1) idToIndex_.resize(static_cast<size_t>(maxId) + 1);
   std::fill(idToIndex_.begin(), idToIndex_.end(), Index(-1));
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > 512)
   for (Index i = 0; i < n; ++i) idToIndex_[static_cast<size_t>(ids[i])] = i;
 }
 
@@ -547,7 +547,7 @@ void ElasticSolidModule::applyMirrors(Simulation& sim) {
   // pass 0: images that are body particles; pass 1: images that are themselves layer particles
   // (corners where two planes meet)
   for (int pass = 0; pass < 2; ++pass) {
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > 512)
     for (Index i = 0; i < n; ++i) {
       if (src[i] <= 0) continue;
       const Index j = idToIndex_[static_cast<size_t>(src[i] - 1)];
@@ -600,7 +600,7 @@ void ElasticSolidModule::kinematicsDim(Simulation& sim) {
   double period[3] = {0.0, 0.0, 0.0};
   for (int a = 0; a < D; ++a)
     if (sim.domain.periodic[static_cast<size_t>(a)]) period[a] = sim.domain.length(a);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > 512)
   for (Index i = 0; i < n; ++i) {
     if (slotOf(mat[i]) < 0) continue;
     for (int a = 0; a < D; ++a) {
@@ -621,7 +621,7 @@ void ElasticSolidModule::kinematicsDim(Simulation& sim) {
     const double* m = s.data(s.mass());
     const int cap = familyCapacity_;
     Index bad = n;
-#pragma omp parallel for schedule(static) reduction(min : bad)
+#pragma omp parallel for schedule(static) reduction(min : bad) if (n > 512)
     for (Index i = 0; i < n; ++i) {
       if (slotOf(mat[i]) < 0) continue;
       const Vec<D> ui = Eigen::Map<const Vec<D>>(u + i * D);
@@ -680,7 +680,7 @@ void ElasticSolidModule::kinematicsDim(Simulation& sim) {
     s.refreshGhosts(corrFields_.shepardGradient);
   }
   const CorrectionView view = corrFields_.view(s, Correction::Mixed, W);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > 512)
   for (Index i = 0; i < n; ++i) {
     if (!isMine(i)) continue;
     const Vec<D> xi = Eigen::Map<const Vec<D>>(x + i * D);
@@ -718,7 +718,7 @@ void ElasticSolidModule::constitutiveDim(Simulation& sim) {
     const double* F = s.data(defGrad_);
     double* P = s.data(piola_);
     double* rho = s.data(s.density());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > 512)
     for (Index i = 0; i < n; ++i) {
       const int k = slotOf(mat[i]);
       if (k < 0) continue;
@@ -735,7 +735,7 @@ void ElasticSolidModule::constitutiveDim(Simulation& sim) {
     }
     return;
   }
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > 512)
   for (Index i = 0; i < n; ++i) {
     const int k = slotOf(mat[i]);
     if (k < 0) continue;
@@ -797,7 +797,7 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
     const double* Fg = s.data(defGrad_);
     const double* X = s.data(refPos_);
     const int cap = familyCapacity_;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > 512)
     for (Index i = 0; i < n; ++i) {
       const int k = slotOf(mat[i]);
       if (k < 0) continue;
@@ -869,7 +869,7 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
   const NeighbourList& sn = solidNeighbours_;
   const CorrectionView view = corrFields_.view(s, Correction::Mixed, W);
   const bool displacementForm = formulation_ == Formulation::SmallStrainDisplacement;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > 512)
   for (Index i = 0; i < n; ++i) {
     if (!isMine(i)) continue;
     const ElasticMaterial& e = mats_[static_cast<size_t>(slotOf(mat[i]))];
@@ -941,7 +941,7 @@ void ElasticSolidModule::constraintsDim(Simulation& sim) {
   double* acc = s.data(sim.acceleration);
   double* workRate = s.data(workRate_);
   const double t = sim.time;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > 512)
   for (Index i = 0; i < n; ++i) {
     if (bc[i] <= 0 || slotOf(mat[i]) < 0) continue;
     const Boundary& B = boundaries_[static_cast<size_t>(bc[i] - 1)];
@@ -988,7 +988,7 @@ double ElasticSolidModule::timeStepLimit(const Simulation& sim) const {
   const double* v = s.data(s.velocity());
   const double* a = s.data(sim.acceleration);
   double vmax = 0.0, amax = 0.0;
-#pragma omp parallel for schedule(static) reduction(max : vmax, amax)
+#pragma omp parallel for schedule(static) reduction(max : vmax, amax) if (n > 512)
   for (Index i = 0; i < n; ++i) {
     if (slotOf(mat[i]) < 0) continue;
     double v2 = 0.0, a2 = 0.0;
@@ -1027,7 +1027,7 @@ double ElasticSolidModule::elasticEnergyDim(const Simulation& sim) const {
   const double* eps = s.data(strain_);
   double e = 0.0;
   const std::int32_t* src = anyMirror_ ? s.data(mirror_) : nullptr;
-#pragma omp parallel for schedule(static) reduction(+ : e)
+#pragma omp parallel for schedule(static) reduction(+ : e) if (n > 512)
   for (Index i = 0; i < n; ++i) {
     const int k = slotOf(mat[i]);
     if (k < 0 || (src && src[i] > 0)) continue;  // mirror layers are images, not material
@@ -1049,7 +1049,7 @@ double ElasticSolidModule::kineticEnergy(const Simulation& sim) const {
   const double* v = s.data(s.velocity());
   const double* m = s.data(s.mass());
   double e = 0.0;
-#pragma omp parallel for schedule(static) reduction(+ : e)
+#pragma omp parallel for schedule(static) reduction(+ : e) if (n > 512)
   for (Index i = 0; i < n; ++i) {
     if (slotOf(mat[i]) < 0 || mo[i] == kMotionFixed) continue;
     double v2 = 0.0;
@@ -1067,7 +1067,7 @@ double ElasticSolidModule::internalEnergy(const Simulation& sim) const {
   const double* m = s.data(s.mass());
   const std::int32_t* src = anyMirror_ ? s.data(mirror_) : nullptr;
   double e = 0.0;
-#pragma omp parallel for schedule(static) reduction(+ : e)
+#pragma omp parallel for schedule(static) reduction(+ : e) if (n > 512)
   for (Index i = 0; i < n; ++i) {
     const int k = slotOf(mat[i]);
     if (k < 0 || (src && src[i] > 0)) continue;
@@ -1082,7 +1082,7 @@ std::array<double, 3> ElasticSolidModule::work(const Simulation& sim) const {
   const std::int32_t* mat = s.data(s.material());
   const double* w = s.data(work_);
   double a = 0.0, b = 0.0, c = 0.0;
-#pragma omp parallel for schedule(static) reduction(+ : a, b, c)
+#pragma omp parallel for schedule(static) reduction(+ : a, b, c) if (n > 512)
   for (Index i = 0; i < n; ++i) {
     if (slotOf(mat[i]) < 0) continue;
     a += w[i * 3];

@@ -1,7 +1,9 @@
 // Validation 1 of issue 4: the vibrating bar of thesis Chapter 3 (Table 1), Total-Lagrangian SVK,
 // clamped-clamped (CC) and clamped-free (CF), first mode. beta^2 = rho omega^2 L^2 / E (Eq. 4)
 // against pi^2 (CC) and pi^2/4 (CF) within 1 %, and total energy (Eqs. 38-39) drift < 1 % over
-// three periods.
+// three periods. Table 1 uses dt = 1e-8 s; the test takes 5e-8 s (0.15 of the Eq. 2.50 limit)
+// to stay fast on a loaded machine (dt = 1e-8 gives beta^2 = 9.86453 / 2.46950, the same to 6
+// digits, and drifts 3.5e-7 / 8.9e-8).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -96,16 +98,16 @@ BarResult runBar(bool cc, double lamL, int n, double periods, double dt) {
 }  // namespace
 
 TEST(SolidBarValidation, ClampedClampedFirstMode) {
-  const BarResult r = runBar(true, 0.025, 200, 3.0, 1e-8);
+  const BarResult r = runBar(true, 0.025, 200, 3.0, 5e-8);
   const double ref = kPi * kPi;
   const double err = std::abs(r.beta2 - ref) / ref;
   std::printf("CC: beta^2 = %.5f (pi^2 = %.5f, error %.3f %%), energy drift %.3e, %d crossings, %.2f s\n",
               r.beta2, ref, 100 * err, r.energyDrift, r.crossings, r.wall);
   test::recordValidation({"solid_bar_cc", "frequency parameter beta^2, first mode", r.beta2, ref, err,
-                          "200 points, lambda/L = 0.025 (h = 2.5 dx, cubic spline), dt = 1e-8 s, 3 periods",
+                          "200 points, lambda/L = 0.025 (h = 2.5 dx, cubic spline), dt = 5e-8 s, 3 periods",
                           r.wall, "< 1 %", "closed form pi^2 (thesis Ch. 3, Eq. 12 with e0 a = 0)"});
   test::recordValidation({"solid_bar_cc", "total energy drift over 3 periods", r.energyDrift, 0.0,
-                          r.energyDrift, "200 points, lambda/L = 0.025, dt = 1e-8 s", r.wall, "< 1 %",
+                          r.energyDrift, "200 points, lambda/L = 0.025, dt = 5e-8 s", r.wall, "< 1 %",
                           "energy conservation (thesis Ch. 3, Eqs. 38-39)"});
   EXPECT_GE(r.crossings, 5);
   EXPECT_LT(err, 0.01);
@@ -113,16 +115,16 @@ TEST(SolidBarValidation, ClampedClampedFirstMode) {
 }
 
 TEST(SolidBarValidation, ClampedFreeFirstMode) {
-  const BarResult r = runBar(false, 0.025, 200, 3.0, 1e-8);
+  const BarResult r = runBar(false, 0.025, 200, 3.0, 5e-8);
   const double ref = 0.25 * kPi * kPi;
   const double err = std::abs(r.beta2 - ref) / ref;
   std::printf("CF: beta^2 = %.5f (pi^2/4 = %.5f, error %.3f %%), energy drift %.3e, %d crossings, %.2f s\n",
               r.beta2, ref, 100 * err, r.energyDrift, r.crossings, r.wall);
   test::recordValidation({"solid_bar_cf", "frequency parameter beta^2, first mode", r.beta2, ref, err,
-                          "200 points, lambda/L = 0.025 (h = 2.5 dx, cubic spline), dt = 1e-8 s, 3 periods",
+                          "200 points, lambda/L = 0.025 (h = 2.5 dx, cubic spline), dt = 5e-8 s, 3 periods",
                           r.wall, "< 1 %", "closed form pi^2/4 (thesis Ch. 3, Eq. 13 with e0 a = 0)"});
   test::recordValidation({"solid_bar_cf", "total energy drift over 3 periods", r.energyDrift, 0.0,
-                          r.energyDrift, "200 points, lambda/L = 0.025, dt = 1e-8 s", r.wall, "< 1 %",
+                          r.energyDrift, "200 points, lambda/L = 0.025, dt = 5e-8 s", r.wall, "< 1 %",
                           "energy conservation (thesis Ch. 3, Eqs. 38-39)"});
   EXPECT_GE(r.crossings, 5);
   EXPECT_LT(err, 0.01);
