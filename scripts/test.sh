@@ -11,5 +11,5 @@ BUILD_DIR=${BUILD_DIR:-build}
 cd "$BUILD_DIR"
 # One OpenMP thread per test: ctest runs as many tests at once as there are cores, and
 # oversubscribed OpenMP barriers spin (orders of magnitude slower on a loaded machine).
-OMP_NUM_THREADS=${OMP_NUM_THREADS:-1} ctest --output-on-failure -j "${JOBS:-$(nproc)}" --timeout 900
+OMP_NUM_THREADS=${OMP_NUM_THREADS:-1} ctest -LE long --output-on-failure -j "${JOBS:-$(nproc)}" --timeout 900
 python3 ../scripts/make_validation_table.py . validation.md || true
