@@ -4,7 +4,7 @@
 set -euo pipefail
 PKGS=(g++ cmake ninja-build pkg-config
       libeigen3-dev libvtk9-dev libhdf5-dev libcli11-dev libyaml-cpp-dev
-      libgtest-dev libbenchmark-dev python3 python3-numpy python3-matplotlib)
+      libgtest-dev libbenchmark-dev python3 python3-numpy python3-matplotlib python3-vtk9)
 SUDO=""
 if [ "$(id -u)" != "0" ]; then SUDO="sudo"; fi
 missing=()
