@@ -96,7 +96,7 @@ struct Drop {
 TEST(FluidDroplet, StaticLaplaceJump2D) {
   test::Stopwatch clock;
   const int rdx = 15;
-  Drop d(1.5e-3, rdx, false);
+  Drop d(1.5e-3, rdx, false);  // Ohnesorge 1.1: the drop's oscillation is damped by t_end
   const double tEnd = std::getenv("FLUID_TEND") ? std::atof(std::getenv("FLUID_TEND")) : 0.012;  // 1.6 viscous times R^2/nu, 1.5 capillary times
   d.stepper.runTo(d.sim, tEnd);
   double pin, pout;
