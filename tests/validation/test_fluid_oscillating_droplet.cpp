@@ -26,7 +26,7 @@ TEST(FluidOscillatingDroplet, DISABLED_Mode2FrequencyRayleighLamb2D) {
   test::Stopwatch clock;
   constexpr double kPi = 3.14159265358979323846;
   Simulation sim(2);
-  const double R0 = 1.5e-3, dx = R0 / 15, B = 3.0 * R0, gamma = 0.05, rho = 1000.0, eps = 0.08;
+  const double R0 = 1.5e-3, dx = R0 / 15, B = (std::getenv("FLUID_BOX") ? std::atof(std::getenv("FLUID_BOX")) : 3.0) * R0, gamma = 0.05, rho = 1000.0, eps = 0.08;
   sim.spacing = dx;
   sim.kernel = Kernel(KernelType::QuinticSpline, 2, dx);
   sim.domain.lo = {0, 0, 0};
