@@ -2,14 +2,13 @@
 //   omega^2 = (n^3 - n) gamma / ((rho_in + rho_out) R^3),  n = 2
 // (inviscid; the Ohnesorge number here is 0.04, so the viscous frequency shift is < 1 %).
 //
-// KNOWN FAILURE, test disabled: the measured period is ~0.045-0.05 s against 0.030 s (the
-// mode-2 amplitude a(t) crosses zero at 11.2 ms, is minimal near 22 ms and crosses again near
-// 38 ms), i.e. the frequency is ~35 % low although the static Laplace jump is within 1.3 %.
-// Not yet understood (candidates: the periodic box of only 3R confining the outer flow, the
-// CSF band width ~6 dx at R/dx = 15). In a 5R box (FLUID_BOX=5) the first zero crossing comes at
-// ~9.5 ms (still ~25 % slow) and the amplitude then GROWS to 0.24 (from 0.17) before becoming
-// irregular: the dynamic CSF run is not energy-consistent, which is the first thing to examine.
-// Run with --gtest_also_run_disabled_tests; FLUID_DEBUG=1 prints a(t).
+// Disabled (marginal): with zero background pressure the gas pressure is negative (-gamma/R / 2),
+// the tensile instability of Eq. 5.2b disorders the particles and the oscillation is irregular
+// (period ~0.045-0.05 s against 0.030 s, amplitude growing in a 5R box). With
+// background_pressure: 100 Pa (all pressures positive) the oscillation is regular and the period
+// is 0.0329 s against 0.0301 s (9.4 %) in a 3R box but 0.0343 s against 0.0300 s (14.3 %) in a
+// 4R box (FLUID_BOX=4): the 10 % of issue 5 is not met robustly, so the test stays disabled.
+// Run with --gtest_also_run_disabled_tests; FLUID_DEBUG=1 prints the mode-2 amplitude a(t).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -34,8 +33,8 @@ TEST(FluidOscillatingDroplet, DISABLED_Mode2FrequencyRayleighLamb2D) {
   sim.domain.lo = {0, 0, 0};
   sim.domain.hi = {B, B, 0};
   sim.domain.periodic = {true, true, false};
-  const int liq = fs::addMaterial(sim, "liquid", "fluid", "{density: 1000, sound_speed: 2, viscosity: 0.01, colour: 1}");
-  const int gas = fs::addMaterial(sim, "gas", "fluid", "{density: 1000, sound_speed: 2, viscosity: 0.01, colour: -1}");
+  const int liq = fs::addMaterial(sim, "liquid", "fluid", "{density: 1000, sound_speed: 2, viscosity: 0.01, colour: 1, background_pressure: 100}");
+  const int gas = fs::addMaterial(sim, "gas", "fluid", "{density: 1000, sound_speed: 2, viscosity: 0.01, colour: -1, background_pressure: 100}");
   FluidModule* fluid = fs::addFluidModule(sim, "{surface_tension: 0.05}");
   auto inside = [&](const double* x) {
     const double X = x[0] - 0.5 * B, Y = x[1] - 0.5 * B;
