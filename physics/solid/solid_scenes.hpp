@@ -3,6 +3,7 @@
 // tests; also a compact example of building a run in C++ without a scene file).
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -79,6 +80,30 @@ Index buildBlock(Simulation& sim, const Vec<D>& origin, const std::array<int, 3>
         ++k;
       }
   return first;
+}
+
+/// Body-fitted particles around a circular hole or bore of radius a centred at the origin (2D):
+/// `rings` concentric rings at r_k = a + (k + 1/2) dx, each of N_k = 4 round(2 pi r_k / (4 dx))
+/// particles at the angles (m + 1/2) 2 pi / N_k (symmetric about both axes, so that symmetry
+/// mirrors x = 0 and y = 0 map particles onto particles), with the volume r_k (2 pi / N_k) dx of
+/// their annular cell. The particles' cells tile the annulus a <= r <= a + rings dx exactly, so
+/// the surface r = a is represented without a lattice staircase. Full circles: the caller keeps
+/// the part it needs. Appends x, y to `xy` and the volume to `volume`.
+/// (A scene-level choice: a body imaged from voxels has no such fitted surface.)
+inline void appendRings(double a, double dx, int rings, std::vector<double>& xy,
+                        std::vector<double>& volume) {
+  const double pi = 3.14159265358979323846;
+  for (int k = 0; k < rings; ++k) {
+    const double r = a + (k + 0.5) * dx;
+    const long N = std::max(4L, 4L * std::lround(2.0 * pi * r / (4.0 * dx)));
+    const double dth = 2.0 * pi / static_cast<double>(N);
+    for (long m = 0; m < N; ++m) {
+      const double th = (static_cast<double>(m) + 0.5) * dth;
+      xy.push_back(r * std::cos(th));
+      xy.push_back(r * std::sin(th));
+      volume.push_back(r * dth * dx);
+    }
+  }
 }
 
 /// Zero crossings (linear interpolation) of a sampled signal; returns crossing times.

@@ -4,13 +4,14 @@
 // against sigma_r = A - B/r^2, sigma_t = A + B/r^2 (A = p a^2/(b^2 - a^2), B = A b^2), within 5 %
 // of the pressure (radially binned), for the TL and the stress-based small-strain forms.
 //
-// NOT YET AT THE ISSUE'S 5 % FOR THE HOOP STRESS: the pressure is applied as the consistent
-// nodal load of a uniform stress -p 1 (f_a = p V_a sum_b V_b (g_ab - g_ba), on the particles
-// within two supports of the bore; resultant within 1 %). With 20 particles across the wall the
-// radial profile is within 5.1 % of p and the hoop profile within 17 % (TL); 28 particles: 3.0 %
-// and 10.3 %. The hoop error sits in the bin at the bore (the stress of particles with a
-// truncated support under a steep gradient, as for Kirsch). The test asserts what is reached and
-// that the error falls with resolution; see docs/solid.md.
+// The wall is built of body-fitted concentric rings (solid_scenes.hpp appendRings: the particles'
+// annular cells tile a <= r <= b, so both surfaces are exactly circular). The pressure is the
+// consistent nodal load of a uniform stress -p 1 (f_a = p V_a sum_b V_b (g_ab - g_ba), on the
+// particles within two supports of the bore). Measured (TL): 20 rings across the wall: radial
+// 2.4 %, hoop 0.9 % of p; 28 rings: 1.5 %, 0.7 %. The same wall on a Cartesian lattice
+// (staircase surfaces, what a voxel image gives) is recorded, not asserted: 5.1 % / 17 % at 20
+// across, 3.0 % / 10 % at 28 (the stress-based small-strain form on the rings: 2.5 % / 10.9 %) - the staircase of the bore, not the strain operator, was the
+// error (see docs/solid.md, case 5).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -30,7 +31,7 @@ struct LameResult {
   Index particles = 0;
 };
 
-LameResult runLame(const std::string& formulation, int perThickness, double hOverDx) {
+LameResult runLame(const std::string& formulation, int perThickness, double hOverDx, bool rings) {
   test::Stopwatch clock;
   const double a = 0.01, b = 0.02, p = 1.0e5;
   const double dx = (b - a) / perThickness;
@@ -41,18 +42,31 @@ LameResult runLame(const std::string& formulation, int perThickness, double hOve
   sim.spacing = dx;
   sim.kernel = Kernel(KernelType::CubicSpline, 2, hOverDx * dx);
   const double depth = 2.0 * sim.kernel.support() + dx;  // mirror layers: two supports
-  std::vector<double> pts;
-  const int m = static_cast<int>(std::ceil((b + depth) / dx)) + 1;
-  for (int j = -m; j < m; ++j)
-    for (int i = -m; i < m; ++i) {
-      const double x = (i + 0.5) * dx, y = (j + 0.5) * dx, r = std::hypot(x, y);
-      if (r < a || r > b || x < -depth || y < -depth) continue;
-      pts.push_back(x);
-      pts.push_back(y);
-    }
+  std::vector<double> pts, vol;
+  if (rings) {  // body-fitted: perThickness concentric rings filling a <= r <= b
+    std::vector<double> all, allV;
+    appendRings(a, dx, perThickness, all, allV);
+    for (size_t k = 0; k < allV.size(); ++k)
+      if (all[2 * k] > -depth && all[2 * k + 1] > -depth) {
+        pts.push_back(all[2 * k]);
+        pts.push_back(all[2 * k + 1]);
+        vol.push_back(allV[k]);
+      }
+  } else {  // Cartesian lattice: staircase surfaces at r = a and r = b
+    const int m = static_cast<int>(std::ceil((b + depth) / dx)) + 1;
+    for (int j = -m; j < m; ++j)
+      for (int i = -m; i < m; ++i) {
+        const double x = (i + 0.5) * dx, y = (j + 0.5) * dx, r = std::hypot(x, y);
+        if (r < a || r > b || x < -depth || y < -depth) continue;
+        pts.push_back(x);
+        pts.push_back(y);
+        vol.push_back(dx * dx);
+      }
+  }
   const Index n = static_cast<Index>(pts.size() / 2);
   sim.store.addParticles(n);
   std::copy(pts.begin(), pts.end(), sim.store.data(sim.store.position()));
+  for (Index k = 0; k < n; ++k) sim.store.data(sim.store.mass())[k] = 2000.0 * vol[static_cast<size_t>(k)];
   sim.domain.lo = {-b - depth, -b - depth, 0};
   sim.domain.hi = {b + depth, b + depth, 1};
   const std::string rmax = std::to_string(a + 2.0 * sim.kernel.support());  // two supports deep
@@ -104,31 +118,50 @@ LameResult runLame(const std::string& formulation, int perThickness, double hOve
   return res;
 }
 
+const char* kLameRef = "Lame closed form (thick-walled cylinder)";
+
 void check(const std::string& f) {
-  const LameResult r = runLame(f, 20, 1.3);
-  std::printf("%s: max radial error %.2f %% p, max hoop error %.2f %% p, %lld particles, %.1f s\n",
+  const LameResult r = runLame(f, 20, 1.3, true);
+  std::printf("%s, rings: max radial error %.2f %% p, max hoop error %.2f %% p, %lld particles, %.1f s\n",
               f.c_str(), 100 * r.radialError, 100 * r.hoopError, static_cast<long long>(r.particles), r.wall);
-  const std::string res = "20 particles across the wall (a = 10 mm, b = 20 mm), h = 1.3 dx, quarter + mirrors";
+  const std::string res = "20 body-fitted rings across the wall (a = 10 mm, b = 20 mm), h = 1.3 dx, quarter + mirrors";
+  // TL meets the issue's 5 % for both profiles. The stress-based small-strain form reaches 2.5 %
+  // radial but 10.9 % hoop in the bin at the bore (its momentum equation 2.86 is not the operator
+  // the consistent pressure load balances, see docs/solid.md): asserted at what it reaches.
+  const bool tl = f == "total_lagrangian";
+  const double hoopTol = tl ? 0.05 : 0.12;
+  const std::string tol = tl ? "< 5 %" : "< 5 % radial, < 12 % hoop (issue asks 5 %)";
   test::recordValidation({"solid_lame_" + f, "max radial-stress error over 8 radial bins / p", r.radialError, 0.0,
-                          r.radialError, res, r.wall, "< 6 % radial, < 21 % hoop (issue asks 5 %)", "Lame closed form (thick-walled cylinder)"});
+                          r.radialError, res, r.wall, tol, kLameRef});
   test::recordValidation({"solid_lame_" + f, "max hoop-stress error over 8 radial bins / p", r.hoopError, 0.0,
-                          r.hoopError, res, r.wall, "< 6 % radial, < 21 % hoop (issue asks 5 %)", "Lame closed form (thick-walled cylinder)"});
-  EXPECT_LT(r.radialError, 0.06);
-  EXPECT_LT(r.hoopError, 0.21);
-  if (f == "total_lagrangian") {  // convergence: finer wall, smaller error
-    const LameResult fine = runLame(f, 28, 1.3);
-    std::printf("  28 across the wall: radial %.2f %% p, hoop %.2f %% p, %.1f s\n",
+                          r.hoopError, res, r.wall, tol, kLameRef});
+  EXPECT_LT(r.radialError, 0.05);
+  EXPECT_LT(r.hoopError, hoopTol);
+  if (f == "total_lagrangian") {
+    // convergence: finer wall, smaller error
+    const LameResult fine = runLame(f, 28, 1.3, true);
+    std::printf("  28 rings across the wall: radial %.2f %% p, hoop %.2f %% p, %.1f s\n",
                 100 * fine.radialError, 100 * fine.hoopError, fine.wall);
+    const std::string resFine = "28 body-fitted rings across the wall, h = 1.3 dx";
     test::recordValidation({"solid_lame_" + f + "_28", "max radial-stress error over 8 radial bins / p",
-                            fine.radialError, 0.0, fine.radialError,
-                            "28 particles across the wall, h = 1.3 dx", fine.wall, "< 6 % radial, < 21 % hoop, falling with resolution",
-                            "Lame closed form (thick-walled cylinder)"});
+                            fine.radialError, 0.0, fine.radialError, resFine, fine.wall,
+                            "< 5 %, falling with resolution", kLameRef});
     test::recordValidation({"solid_lame_" + f + "_28", "max hoop-stress error over 8 radial bins / p",
-                            fine.hoopError, 0.0, fine.hoopError,
-                            "28 particles across the wall, h = 1.3 dx", fine.wall, "< 6 % radial, < 21 % hoop, falling with resolution",
-                            "Lame closed form (thick-walled cylinder)"});
+                            fine.hoopError, 0.0, fine.hoopError, resFine, fine.wall,
+                            "< 5 %, falling with resolution", kLameRef});
     EXPECT_LT(fine.hoopError, r.hoopError);
     EXPECT_LT(fine.radialError, r.radialError);
+    // the same wall on a Cartesian lattice (staircase surfaces, as from imaged rock): recorded
+    const LameResult stair = runLame(f, 20, 1.3, false);
+    std::printf("  lattice (staircase), 20 across: radial %.2f %% p, hoop %.2f %% p, %.1f s\n",
+                100 * stair.radialError, 100 * stair.hoopError, stair.wall);
+    const std::string resStair = "20 across the wall on a Cartesian lattice (staircase surfaces), h = 1.3 dx";
+    test::recordValidation({"solid_lame_" + f + "_lattice", "max radial-stress error over 8 radial bins / p",
+                            stair.radialError, 0.0, stair.radialError, resStair, stair.wall,
+                            "recorded only (staircase surfaces)", kLameRef});
+    test::recordValidation({"solid_lame_" + f + "_lattice", "max hoop-stress error over 8 radial bins / p",
+                            stair.hoopError, 0.0, stair.hoopError, resStair, stair.wall,
+                            "recorded only (staircase surfaces)", kLameRef});
   }
 }
 
@@ -137,10 +170,10 @@ void check(const std::string& f) {
 TEST(SolidLame, TotalLagrangian) { check("total_lagrangian"); }
 TEST(SolidLame, SmallStrainStress) { check("small_strain_stress"); }
 
-// Resolution study, not part of the suite (about a minute): run with
+// Resolution study on the Cartesian lattice, not part of the suite (about 20 s): run with
 //   validation_test_solid_lame --gtest_also_run_disabled_tests --gtest_filter=*Study*
-TEST(SolidLame, DISABLED_StudyFortyAcrossTheWall) {
-  const LameResult r = runLame("total_lagrangian", 40, 1.3);
-  std::printf("Lame 40 across: radial %.2f %% p, hoop %.2f %% p, %lld particles, %.1f s\n",
+TEST(SolidLame, DISABLED_StudyFortyAcrossTheWallLattice) {
+  const LameResult r = runLame("total_lagrangian", 40, 1.3, false);
+  std::printf("Lame 40 across (lattice): radial %.2f %% p, hoop %.2f %% p, %lld particles, %.1f s\n",
               100 * r.radialError, 100 * r.hoopError, static_cast<long long>(r.particles), r.wall);
 }
