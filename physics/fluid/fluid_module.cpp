@@ -110,11 +110,20 @@ void FluidModule::configure(Simulation& sim, const std::vector<const Material*>&
   auto& st = sim.store;
   pressure = st.addReal("pressure", 1, kFieldDefault, "fluid");
   densityRate = st.addReal("density_rate", 1, kFieldNone, "fluid");
-  colour = st.addReal("colour", 1, kFieldDefault, "fluid");
-  colourGradient = st.addReal("colour_gradient", d, kFieldOutput | kFieldToGhosts, "fluid");
-  curvature = st.addReal("curvature", 1, kFieldOutput, "fluid");
   wallVelocity = st.addReal("wall_velocity", d, kFieldToGhosts, "fluid");
-  interface = st.addInt("interface", 1, kFieldOutput, "fluid");
+  // Colour (5.6), normal (5.7), curvature (5.8) and the interface flag are needed only by the
+  // CSF surface tension (1.9) and the wetting colour of walls (1.10), which acts only through
+  // it: a scene without surface tension does not allocate them and skips those stages.
+  colour = RealField{};
+  colourGradient = RealField{};
+  curvature = RealField{};
+  interface = IntField{};
+  if (surfaceTensionActive()) {
+    colour = st.addReal("colour", 1, kFieldDefault, "fluid");
+    colourGradient = st.addReal("colour_gradient", d, kFieldOutput | kFieldToGhosts, "fluid");
+    curvature = st.addReal("curvature", 1, kFieldOutput, "fluid");
+    interface = st.addInt("interface", 1, kFieldOutput, "fluid");
+  }
   if (!summation_) sim.addIntegrated(st.density(), densityRate, true);
 }
 
@@ -126,7 +135,7 @@ void FluidModule::initialise(Simulation& sim) {
   double* m = st.data(st.mass());
   double* v = st.data(st.velocity());
   const double* x = st.data(st.position());
-  double* col = st.data(colour);
+  double* col = colour.valid() ? st.data(colour) : nullptr;
   double* p = st.data(pressure);
   std::int32_t* ph = st.data(st.phase());
   std::int32_t* mo = st.data(sim.motion);
@@ -153,14 +162,14 @@ void FluidModule::initialise(Simulation& sim) {
       }
       if (rho[i] <= 0.0 || hydrostaticInit_) rho[i] = rho0;
       if (m[i] <= 0.0) m[i] = md.rho0 * cellVolume;
-      col[i] = md.colour;
+      if (col) col[i] = md.colour;
       p[i] = pressureOf(md, rho[i]);
     } else {
       ph[i] = kPhaseWall;
       mo[i] = kMotionFixed;
       if (rho[i] <= 0.0) rho[i] = md.rho0;
       if (m[i] <= 0.0) m[i] = md.rho0 * cellVolume;
-      col[i] = md.colour;
+      if (col) col[i] = md.colour;
       for (int a = 0; a < d; ++a) v[i * d + a] = md.wallVelocity[static_cast<size_t>(a)];
     }
   }
@@ -231,7 +240,7 @@ void FluidModule::kinematicsD(Simulation& sim) {
     st.refreshGhosts(st.density());
   }
 
-  if (gamma_ <= 0.0) return;
+  if (!surfaceTensionActive()) return;  // no colour fields allocated (see configure)
   // Colour gradient (Eq. 5.7) on interface particles only: a particle whose neighbours all have
   // its colour costs one comparison per neighbour.
   const double* col = st.data(colour);

@@ -67,6 +67,9 @@ class FluidModule : public Module {
   // ---- read-only access for tests and diagnostics ----
   const MaterialData& materialData(int id) const { return mat_.at(static_cast<size_t>(id)); }
   double surfaceTension() const { return gamma_; }
+  /// True when the CSF surface tension (1.9) is on; only then the fields colour,
+  /// colour_gradient, curvature and interface exist (handles invalid otherwise).
+  bool surfaceTensionActive() const { return gamma_ > 0.0; }
   /// Largest |rho - rho0| / rho0 over the fluid particles at the last EOS evaluation.
   double maxDensityVariation() const { return maxVariation_; }
   /// Number of EOS evaluations at which the density bound was exceeded.

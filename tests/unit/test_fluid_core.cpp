@@ -173,3 +173,25 @@ TEST(FluidCore, TimeStepLimits) {
   EXPECT_LE(dt, 0.25 * h / t.c * (1 + 1e-12));  // acoustic CFL
   EXPECT_GT(dt, 0.0);
 }
+
+// "Model only what a scene requires": a single-phase scene without surface tension allocates no
+// colour (5.6), normal (5.7), curvature (5.8) or interface field; with surface tension it does.
+TEST(FluidFields, InterfaceFieldsOnlyWithSurfaceTension) {
+  const char* names[] = {"colour", "colour_gradient", "curvature", "interface"};
+  {
+    Tank t(true);
+    EXPECT_FALSE(t.fluid->surfaceTensionActive());
+    for (const char* nm : names) EXPECT_FALSE(t.sim.store.has(nm)) << nm;
+    EXPECT_FALSE(t.fluid->colour.valid());
+    t.run(2e-3);  // the stages run without those fields
+    for (const char* nm : names) EXPECT_FALSE(t.sim.store.has(nm)) << nm;
+    EXPECT_LT(t.fluid->maxDensityVariation(), 0.03);
+  }
+  {
+    Tank t(true, ", surface_tension: 0.07");
+    EXPECT_TRUE(t.fluid->surfaceTensionActive());
+    for (const char* nm : names) EXPECT_TRUE(t.sim.store.has(nm)) << nm;
+    t.run(2e-3);
+    EXPECT_LT(t.fluid->maxDensityVariation(), 0.03);
+  }
+}
