@@ -10,7 +10,8 @@
 // particles within two supports of the bore). Measured (TL): 20 rings across the wall: radial
 // 2.4 %, hoop 0.9 % of p; 28 rings: 1.5 %, 0.7 %. The same wall on a Cartesian lattice
 // (staircase surfaces, what a voxel image gives) is recorded, not asserted: 5.1 % / 17 % at 20
-// across, 3.0 % / 10 % at 28 (the stress-based small-strain form on the rings: 2.5 % / 10.9 %) - the staircase of the bore, not the strain operator, was the
+// across, 3.0 % / 10 % at 28. The stress-based small-strain form on the rings: 2.5 % / 10.9 % at
+// 20, but it does not converge (hoop 41 % at 28, 24 % at 40): only TL is validated here. - the staircase of the bore, not the strain operator, was the
 // error (see docs/solid.md, case 5).
 #include <gtest/gtest.h>
 
@@ -126,8 +127,9 @@ void check(const std::string& f) {
               f.c_str(), 100 * r.radialError, 100 * r.hoopError, static_cast<long long>(r.particles), r.wall);
   const std::string res = "20 body-fitted rings across the wall (a = 10 mm, b = 20 mm), h = 1.3 dx, quarter + mirrors";
   // TL meets the issue's 5 % for both profiles. The stress-based small-strain form reaches 2.5 %
-  // radial but 10.9 % hoop in the bin at the bore (its momentum equation 2.86 is not the operator
-  // the consistent pressure load balances, see docs/solid.md): asserted at what it reaches.
+  // radial but 10.9 % hoop (bin at the bore) at 20 rings and does NOT converge on rings
+  // (DISABLED_StudyStressBasedRings: hoop 41 % at 28, 24 % at 40, with bin-to-bin noise; see
+  // docs/solid.md): asserted at what it reaches here, not claimed as validated.
   const bool tl = f == "total_lagrangian";
   const double hoopTol = tl ? 0.05 : 0.12;
   const std::string tol = tl ? "< 5 %" : "< 5 % radial, < 12 % hoop (issue asks 5 %)";
@@ -176,4 +178,13 @@ TEST(SolidLame, DISABLED_StudyFortyAcrossTheWallLattice) {
   const LameResult r = runLame("total_lagrangian", 40, 1.3, false);
   std::printf("Lame 40 across (lattice): radial %.2f %% p, hoop %.2f %% p, %lld particles, %.1f s\n",
               100 * r.radialError, 100 * r.hoopError, static_cast<long long>(r.particles), r.wall);
+}
+
+// The stress-based form on rings, 20 / 28 / 40 across (about 45 s): does not converge (see above).
+TEST(SolidLame, DISABLED_StudyStressBasedRings) {
+  for (int nw : {20, 28, 40}) {
+    const LameResult r = runLame("small_strain_stress", nw, 1.3, true);
+    std::printf("Lame stress-based, %d rings: radial %.2f %% p, hoop %.2f %% p, %.1f s\n", nw,
+                100 * r.radialError, 100 * r.hoopError, r.wall);
+  }
 }
