@@ -96,6 +96,8 @@ class FluidModule : public Module {
   bool densityWeightedCsf_ = true;  // CSF weighting 2 rho_a / (rho_a + rho_b)
   double normalThreshold_ = 0.05;   // |n| h below which a normal is not used (5.8)
   bool wallWetting_ = true;         // walls' colour cos(theta) enters 5.7 (1.10)
+  bool wettingNormal_ = true;       // wetting: normal (prescribed contact-line normal near walls)
+  double wettingScale_ = 0.15;      // wall Shepard fraction at which the normal is fully prescribed
   double densityDiffusion_ = 0.0;   // delta of the Molteni-Colagrossi term (0: off)
   bool normaliseViscosity_ = true;  // divide 5.4 by the discrete second moment
   double artificialViscosity_ = 0.0;  // alpha of Eq. 2.64 (0: off)
