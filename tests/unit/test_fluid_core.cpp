@@ -195,3 +195,58 @@ TEST(FluidFields, InterfaceFieldsOnlyWithSurfaceTension) {
     EXPECT_LT(t.fluid->maxDensityVariation(), 0.03);
   }
 }
+
+// Wetting by a prescribed contact-line normal (Eq. 1.10, "wetting: normal"): a vertical
+// liquid-gas interface meeting a flat wall of 60 degrees. Where the wall's Shepard fraction chi
+// reaches wetting_scale the outward liquid normal is exactly n_w cos(theta) + t_w sin(theta)
+// = (sin 60, cos 60); away from the wall (chi = 0) it stays the fluid's own normal (1, 0).
+TEST(FluidWetting, PrescribedContactLineNormal) {
+  const double dx = 1e-4, theta = 60.0 * 3.14159265358979323846 / 180.0, scale = 0.15;
+  Simulation sim{2};
+  sim.spacing = dx;
+  sim.kernel = Kernel(KernelType::QuinticSpline, 2, dx);
+  sim.domain.lo = {0, -3 * dx, 0};
+  sim.domain.hi = {20 * dx, 14 * dx, 0};
+  sim.domain.periodic = {true, false, false};
+  const int liq = fs::addMaterial(sim, "liquid", "fluid", "{density: 1000, sound_speed: 2, viscosity: 0.05, colour: 1}");
+  const int gas = fs::addMaterial(sim, "gas", "fluid", "{density: 1000, sound_speed: 2, viscosity: 0.05, colour: -1}");
+  const int wall = fs::addMaterial(sim, "wall", "wall", "{density: 1000, contact_angle: 60}");
+  FluidModule* fluid = fs::addFluidModule(sim, "{surface_tension: 0.05, wetting_scale: 0.15}");
+  fs::addLattice(sim, {0, 0}, {10 * dx, 14 * dx}, liq);
+  fs::addLattice(sim, {10 * dx, 0}, {20 * dx, 14 * dx}, gas);
+  fs::addLattice(sim, {0, -3 * dx}, {20 * dx, 0}, wall);
+  fluid->initialise(sim);
+  sim.updateNeighbours();
+  fluid->kinematics(sim);
+  const auto& st = sim.store;
+  const double* x = st.data(st.position());
+  const double* ng = st.data(fluid->colourGradient);
+  const double* m = st.data(st.mass());
+  const double* rho = st.data(st.density());
+  const std::int32_t* ph = st.data(st.phase());
+  const auto& nl = sim.neighbours;
+  int nPrescribed = 0, nFree = 0;
+  for (Index i = 0; i < st.realCount(); ++i) {
+    if (ph[i] != kPhaseFluid || std::abs(x[2 * i] - 10 * dx) > dx) continue;  // the two columns at the interface
+    double chi = 0.0;
+    for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
+      const Index j = nl.index[static_cast<size_t>(k)];
+      if (ph[j] == kPhaseFluid) continue;
+      chi += m[j] / rho[j] * sim.kernel.value(std::hypot(x[2 * i] - x[2 * j], x[2 * i + 1] - x[2 * j + 1]));
+    }
+    const double nn = std::hypot(ng[2 * i], ng[2 * i + 1]);
+    ASSERT_GT(nn, 0.0);
+    const double mx = -ng[2 * i] / nn, my = -ng[2 * i + 1] / nn;  // outward liquid normal
+    if (chi >= scale) {
+      EXPECT_NEAR(mx, std::sin(theta), 1e-9) << "y = " << x[2 * i + 1];
+      EXPECT_NEAR(my, std::cos(theta), 1e-9) << "y = " << x[2 * i + 1];
+      ++nPrescribed;
+    } else if (chi == 0.0 && x[2 * i + 1] > 4 * dx && x[2 * i + 1] < 10 * dx) {
+      EXPECT_NEAR(mx, 1.0, 1e-9);
+      EXPECT_NEAR(my, 0.0, 1e-6);
+      ++nFree;
+    }
+  }
+  EXPECT_GE(nPrescribed, 2);  // at least the first row on both sides
+  EXPECT_GE(nFree, 4);
+}
