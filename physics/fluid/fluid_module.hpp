@@ -13,8 +13,13 @@
 //
 // Module section "fluid" (all optional): see docs/fluid.md for the full list.
 //
-// Stages: kinematics = density summation (option), colour gradient (5.7) and curvature (5.8) on
-// interface particles only; constitutive = EOS (1.4 / Tait) and wall pressure/velocity
+// Fields colour, colour_gradient, curvature, interface exist only with surface_tension > 0.
+// Wetting (1.10): by default ("wetting: normal") the interface normal near a boundary is turned
+// to the contact angle given by the boundary's colour cos(theta); "wetting: colour" instead puts
+// the boundary colour into the sum of 5.7.
+//
+// Stages: kinematics = density summation (option), colour gradient (5.7), wetting normal and
+// curvature (5.8) on interface particles only; constitutive = EOS (1.4 / Tait) and wall pressure/velocity
 // extrapolation (extended summation with a hydrostatic wall pressure); forces = continuity
 // (5.1a), pressure gradient (5.2b), harmonic-mean viscosity (5.4), body forces, CSF surface
 // tension (1.9), all in gather form.
