@@ -86,6 +86,19 @@ TEST(FluidConfig, BadInputNamesKeyAndValue) {
   Simulation sim4(2);
   fs::addMaterial(sim4, "wall", "wall", "{density: 1000, contact_angle: 200}");
   EXPECT_THROW(fs::addFluidModule(sim4, ""), InputError);
+  Simulation sim5(2);
+  fs::addMaterial(sim5, "water", "fluid", "{density: 1000, sound_speed: 5, viscosity: 1.0e-3}");
+  try {
+    fs::addFluidModule(sim5, "{surface_tension: 0.05, wetting: normals}");
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    const std::string w = e.what();
+    EXPECT_NE(w.find("wetting"), std::string::npos) << w;
+    EXPECT_NE(w.find("normals"), std::string::npos) << w;
+  }
+  Simulation sim6(2);
+  fs::addMaterial(sim6, "water", "fluid", "{density: 1000, sound_speed: 5, viscosity: 1.0e-3}");
+  EXPECT_THROW(fs::addFluidModule(sim6, "{wetting_scale: 0}"), InputError);
 }
 
 TEST(FluidCore, PhasesMotionAndColours) {
