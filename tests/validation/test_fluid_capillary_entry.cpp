@@ -118,21 +118,27 @@ const char* kRes = "dx = 0.1 mm: slit w = 10 dx, channel H = 30 dx, loop Lx = 80
 // Below the Young-Laplace threshold (f = 0.9 f*) the meniscus bulges into the slit entrance and
 // stops; above it (f = 1.1 f*) the gas front keeps advancing: the threshold is within 10 %.
 TEST(FluidCapillaryEntry, GasStaysOutBelowThreshold) {
-  const EntryResult r = runEntry(Entry::env("FLUID_RATIO", 0.9), 0.08);
-  std::printf("0.9 f*: front %.3f w at T/2, %.3f w at T, %lld steps, %.1f s\n", r.frontHalf, r.frontEnd, r.steps, r.wall);
+  const double ratio = Entry::env("FLUID_RATIO", 0.9);
+  const EntryResult r = runEntry(ratio, 0.08);
+  char q[120];
+  std::snprintf(q, sizeof q, "gas front past the slit entrance / w at f = %.2f f* (stays out)", ratio);
+  std::printf("%.2f f*: front %.3f w at T/2, %.3f w at T, %lld steps, %.1f s\n", ratio, r.frontHalf, r.frontEnd, r.steps, r.wall);
   EXPECT_LT(r.frontEnd, 0.5);                  // the meniscus cap stays near the entrance
   EXPECT_LT(r.frontEnd - r.frontHalf, 0.1);    // and does not advance
-  test::recordValidation({"fluid_capillary_entry_2d", "gas front past the slit entrance / w at f = 0.9 f* (stays out)",
+  test::recordValidation({"fluid_capillary_entry_2d", q,
                           r.frontEnd, 0.0, r.frontEnd, kRes, r.wall, "< 0.5 w and advance over the second half < 0.1 w",
                           "Young-Laplace entry 2 gamma cos(theta) / w (minus the wide channel's)"});
 }
 
 TEST(FluidCapillaryEntry, GasEntersAboveThreshold) {
-  const EntryResult r = runEntry(Entry::env("FLUID_RATIO", 1.1), 0.08);
-  std::printf("1.1 f*: front %.3f w at T/2, %.3f w at T, %lld steps, %.1f s\n", r.frontHalf, r.frontEnd, r.steps, r.wall);
+  const double ratio = Entry::env("FLUID_RATIO", 1.1);
+  const EntryResult r = runEntry(ratio, 0.08);
+  char q[120];
+  std::snprintf(q, sizeof q, "gas front past the slit entrance / w at f = %.2f f* (enters)", ratio);
+  std::printf("%.2f f*: front %.3f w at T/2, %.3f w at T, %lld steps, %.1f s\n", ratio, r.frontHalf, r.frontEnd, r.steps, r.wall);
   EXPECT_GT(r.frontEnd, 0.6);
   EXPECT_GT(r.frontEnd - r.frontHalf, 0.15);  // still advancing
-  test::recordValidation({"fluid_capillary_entry_2d", "gas front past the slit entrance / w at f = 1.1 f* (enters)",
+  test::recordValidation({"fluid_capillary_entry_2d", q,
                           r.frontEnd, 0.0, r.frontEnd, kRes, r.wall, "> 0.6 w and advance over the second half > 0.15 w",
                           "Young-Laplace entry 2 gamma cos(theta) / w (minus the wide channel's)"});
 }
