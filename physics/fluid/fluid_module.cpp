@@ -96,6 +96,7 @@ void FluidModule::configure(Simulation& sim, const std::vector<const Material*>&
     densityDiffusion_ = s.real("density_diffusion", 0.0, Range::closed(0.0, 1.0));
     normaliseViscosity_ = s.boolean("viscosity_normalisation", true);
     artificialViscosity_ = s.real("artificial_viscosity", 0.0, Range::closed(0.0, 10.0));
+    xsph_ = s.real("xsph", 0.0, Range::closed(0.0, 1.0));
     densityBound_ = s.real("density_variation_bound", 0.03, Range{0.0, 1.0, true, false});
     cflAcoustic_ = s.real("cfl_acoustic", 0.25, Range{0.0, 1.0, true, false});
     cflViscous_ = s.real("cfl_viscous", 0.125, Range{0.0, 1.0, true, false});
@@ -127,6 +128,13 @@ void FluidModule::configure(Simulation& sim, const std::vector<const Material*>&
     interface = st.addInt("interface", 1, kFieldOutput, "fluid");
   }
   if (!summation_) sim.addIntegrated(st.density(), densityRate, true);
+  xsphVelocity = RealField{};
+  if (xsph_ > 0.0) {
+    // XSPH (Eq. 2.66) moves a particle with v + eps sum_b m_b/rho_ab (v_b - v_a) W_ab: the
+    // correction is a second rate of the positions, advanced by the integrator like any field.
+    xsphVelocity = st.addReal("fluid_xsph_velocity", d, kFieldNone, "fluid");
+    sim.addIntegrated(st.position(), xsphVelocity, true);
+  }
 }
 
 void FluidModule::initialise(Simulation& sim) {
@@ -461,6 +469,7 @@ void FluidModule::forcesD(Simulation& sim) {
   const std::int32_t* mo = st.data(sim.motion);
   double* acc = st.data(sim.acceleration);
   double* drho = summation_ ? nullptr : st.data(densityRate);
+  double* xsphRate = xsph_ > 0.0 ? st.data(xsphVelocity) : nullptr;
   const double* ng = gamma_ > 0.0 ? st.data(colourGradient) : nullptr;
   const double* kap = gamma_ > 0.0 ? st.data(curvature) : nullptr;
   const std::int32_t* itf = gamma_ > 0.0 ? st.data(interface) : nullptr;
@@ -481,7 +490,7 @@ void FluidModule::forcesD(Simulation& sim) {
     const double Va = m[i] / rhoa;
     Vec<D> va;
     for (int a = 0; a < D; ++a) va[a] = v[i * D + a];
-    Vec<D> aP = Vec<D>::Zero(), aV = Vec<D>::Zero(), aA = Vec<D>::Zero();
+    Vec<D> aP = Vec<D>::Zero(), aV = Vec<D>::Zero(), aA = Vec<D>::Zero(), dvX = Vec<D>::Zero();
     double divv = 0.0, diff = 0.0, moment = 0.0;
     for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
       const Index j = nl.index[static_cast<size_t>(k)];
@@ -503,6 +512,9 @@ void FluidModule::forcesD(Simulation& sim) {
         vbVisc = vb;
         if (densityDiffusion_ > 0.0 && idb == ida)  // Molteni-Colagrossi density diffusion
           diff += 2.0 * Vb * (rhoa - rhob) * F;
+        // XSPH (2.66) within one material: averaging across a density jump would drag the light
+        // phase with the heavy one.
+        if (xsphRate && idb == ida) dvX += (2.0 * m[j] / (rhoa + rhob) * W.value(r.norm())) * (vb - va);
       } else {
         // Boundary particle: extrapolated pressure, the density the fluid a would have at that
         // pressure, the boundary particle's own volume; no-slip through v~_w.
@@ -561,6 +573,8 @@ void FluidModule::forcesD(Simulation& sim) {
     }
     for (int a = 0; a < D; ++a) acc[i * D + a] += ai[a];
     if (drho) drho[i] += rhoa * divv + densityDiffusion_ * h * ma.soundSpeed * diff;
+    if (xsphRate)
+      for (int a = 0; a < D; ++a) xsphRate[i * D + a] += xsph_ * dvX[a];
   }
 }
 

@@ -84,6 +84,7 @@ class FluidModule : public Module {
 
   // field handles
   RealField pressure, densityRate, colour, colourGradient, curvature, wallVelocity;
+  RealField xsphVelocity;  ///< XSPH correction (2.66), a second position rate; only with xsph > 0
   IntField interface;
 
  private:
@@ -106,6 +107,7 @@ class FluidModule : public Module {
   double densityDiffusion_ = 0.0;   // delta of the Molteni-Colagrossi term (0: off)
   bool normaliseViscosity_ = true;  // divide 5.4 by the discrete second moment
   double artificialViscosity_ = 0.0;  // alpha of Eq. 2.64 (0: off)
+  double xsph_ = 0.0;               // epsilon of XSPH, Eq. 2.66 (0: off)
   double densityBound_ = 0.03;
   double cflAcoustic_ = 0.25, cflViscous_ = 0.125, cflForce_ = 0.25, cflSurface_ = 0.25;
   bool hydrostaticInit_ = false;

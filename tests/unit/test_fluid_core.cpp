@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 
 #include "libcore/phases.hpp"
@@ -262,4 +263,65 @@ TEST(FluidWetting, PrescribedContactLineNormal) {
   }
   EXPECT_GE(nPrescribed, 2);  // at least the first row on both sides
   EXPECT_GE(nFree, 4);
+}
+
+// XSPH (Eq. 2.66, fluid key `xsph`): the field exists only when epsilon > 0; in a periodic fluid
+// at rest with one particle moving at u, that particle's position rate correction is
+// eps sum_b m_b / rho_ab (v_b - v_a) W_ab = -eps u sum_{b != a} V_b W_ab exactly, a neighbour b
+// gets +eps u V_a W_ab, and a uniform translation gives no correction at all.
+TEST(FluidXsph, CorrectionMatchesClosedSumAndOnlyWhenAsked) {
+  for (double eps : {0.0, 0.5}) {
+    const double dx = 1e-3;
+    Simulation sim{2};
+    sim.spacing = dx;
+    sim.kernel = Kernel(KernelType::QuinticSpline, 2, dx);
+    sim.domain.lo = {0, 0, 0};
+    sim.domain.hi = {12 * dx, 12 * dx, 0};
+    sim.domain.periodic = {true, true, false};
+    fs::addMaterial(sim, "water", "fluid", "{density: 1000, sound_speed: 10, viscosity: 1.0e-3}");
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "{xsph: %g}", eps);
+    FluidModule* fluid = fs::addFluidModule(sim, buf);
+    fs::addLattice(sim, {0, 0}, {12 * dx, 12 * dx}, 0);
+    fluid->initialise(sim);
+    EXPECT_EQ(fluid->xsphVelocity.valid(), eps > 0.0);
+    EXPECT_EQ(sim.store.has("fluid_xsph_velocity"), eps > 0.0);
+    if (eps == 0.0) continue;
+    auto& st = sim.store;
+    const Index n = st.realCount();
+    // (pointers are fetched again after every evaluation: ghosts may grow the store, and the
+    // cell reordering permutes the particles)
+    double* v = st.data(st.velocity());
+    for (Index i = 0; i < 2 * n; ++i) v[i] = 0.3;  // uniform translation: no correction
+    sim.evaluateRates();
+    const double* dv = st.data(fluid->xsphVelocity);
+    for (Index i = 0; i < 2 * n; ++i) ASSERT_NEAR(dv[i], 0.0, 1e-14);
+    v = st.data(st.velocity());
+    for (Index i = 0; i < 2 * n; ++i) v[i] = 0.0;
+    const double u = 0.2;
+    v[0] = u;  // one particle moves (any one: the box is periodic)
+    sim.evaluateRates();
+    dv = st.data(fluid->xsphVelocity);
+    v = st.data(st.velocity());
+    const double* x = st.data(st.position());
+    Index a = 0;
+    while (v[2 * a] == 0.0) ++a;
+    const double V = dx * dx;  // m / rho at rest
+    double sum = 0.0, rateB = 0.0;
+    Index b = -1;
+    for (Index j = 0; j < n; ++j) {
+      if (j == a) continue;
+      double X = x[2 * j] - x[2 * a], Y = x[2 * j + 1] - x[2 * a + 1];
+      X -= 12 * dx * std::round(X / (12 * dx));
+      Y -= 12 * dx * std::round(Y / (12 * dx));
+      const double w = sim.kernel.value(std::hypot(X, Y));
+      sum += V * w;
+      if (std::abs(X - dx) < 1e-9 && std::abs(Y) < 1e-9) b = j, rateB = eps * u * V * w;
+    }
+    ASSERT_GE(b, 0);
+    EXPECT_NEAR(dv[2 * a], -eps * u * sum, 1e-12);
+    EXPECT_NEAR(dv[2 * a + 1], 0.0, 1e-14);
+    EXPECT_NEAR(dv[2 * b], rateB, 1e-12);
+    EXPECT_GT(rateB, 0.0);
+  }
 }
