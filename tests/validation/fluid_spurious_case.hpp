@@ -1,0 +1,109 @@
+#pragma once
+// Spurious currents of the CSF model (Eqs. 5.6-5.8, 1.9) and their convergence with resolution:
+// the 2D static droplet of test_fluid_droplet.cpp (R = 1.5 mm, periodic box 3R, equal densities
+// 1000 and viscosities 0.3 Pa s, Ohnesorge 1.1, gamma = 0.05 N/m, c = 2 m/s, quintic h = dx)
+// at several R/dx with the physical parameters fixed. Protocol: start at rest, damped phase
+// t < 3 ms (dynamic relaxation of the start's compression wave, see FluidDrop::settleAndMeasure),
+// undamped to t = 12 ms (1.6 viscous times R^2 / nu); over the last acoustic period B / c =
+// 2.25 ms the jump and the largest particle speed are averaged in time. Reported: the capillary
+// number Ca = mu u_max / gamma (at the end and window mean) and the jump error at each R/dx, and
+// the observed order of Ca between resolutions.
+// Used by test_fluid_spurious_currents.cpp (R/dx = 10, 15, 20) and
+// test_fluid_spurious_currents_long.cpp (R/dx = 20, 30; label `long`).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "tests/support/fluid_drop.hpp"
+#include "tests/support/validation_record.hpp"
+
+namespace poresph::test {
+
+struct SpuriousRow {
+  int rdx = 0;
+  double dp = 0, ref = 0, err = 0, swing = 0;
+  double caEnd = 0, caMean = 0;
+  double rl = 0, rg = 0, R = 0, dx = 0;
+  long steps = 0;
+  long long particles = 0;
+  double wall = 0;
+};
+
+inline SpuriousRow runSpurious2D(int rdx) {
+  Stopwatch clock;
+  FluidDrop::Params p;
+  p.dim = 2;
+  p.rOverDx = rdx;
+  FluidDrop d(p);
+  const double period = d.B / p.cLiquid;
+  const FluidDrop::Measurement m = d.settleAndMeasure(0.003, 0.012, period);
+  SpuriousRow r;
+  r.rdx = rdx;
+  r.ref = p.gamma / p.R;
+  r.dp = m.dpMean;
+  r.err = std::abs(m.dpMean - r.ref) / r.ref;
+  r.swing = (m.dpMax - m.dpMin) / r.ref;
+  r.caEnd = p.muLiquid * m.speedEnd / p.gamma;
+  r.caMean = p.muLiquid * m.speedMean / p.gamma;
+  d.extent(r.rl, r.rg);
+  r.R = p.R;
+  r.dx = d.dx;
+  r.steps = m.steps;
+  r.particles = static_cast<long long>(d.count());
+  r.wall = clock.seconds();
+  std::printf("R/dx = %2d: %6lld particles, %6ld steps, jump %.3f Pa (gamma/R = %.3f) error %.2f %% "
+              "(swing %.2f %%), Ca end %.3e, window mean %.3e, liquid extent %.3f R, nearest gas "
+              "%.3f R, %.1f s\n",
+              rdx, r.particles, r.steps, r.dp, r.ref, 100 * r.err, 100 * r.swing, r.caEnd, r.caMean,
+              r.rl / r.R, r.rg / r.R, r.wall);
+  std::fflush(stdout);
+  d.dumpSlice("fluid_spurious_R" + std::to_string(rdx) + ".txt");
+  const std::string res = "2D, R/dx = " + std::to_string(rdx) +
+                          ", periodic box 3R, quintic h = dx, Oh = 1.1, c = 2 m/s, t = 12 ms, " +
+                          std::to_string(r.steps) + " steps";
+  const std::string cs = "fluid_spurious_currents_2d_R" + std::to_string(rdx);
+  recordValidation({cs, "spurious-current capillary number mu u_max / gamma (mean over the last 2.25 ms)",
+                    r.caMean, 0.0, r.caMean, res, r.wall, "reported (asserted < 2e-2)",
+                    "0 (exact solution at rest)"});
+  recordValidation({cs, "Laplace pressure jump (Pa)", r.dp, r.ref, r.err, res, r.wall, "< 5 %",
+                    "Young-Laplace gamma / R (Eq. 1.5)"});
+  return r;
+}
+
+/// Checks every row (jump within 5 %, drop intact, Ca bounded) and prints/records the observed
+/// order of Ca between successive resolutions and the least-squares order over all of them.
+/// Returns the least-squares order.
+inline double checkSpuriousRows(const std::vector<SpuriousRow>& rows, const std::string& caseName) {
+  for (const SpuriousRow& r : rows) {
+    SCOPED_TRACE("R/dx = " + std::to_string(r.rdx));
+    EXPECT_LT(r.err, 0.05);
+    EXPECT_LT(r.rl, r.R + 2 * r.dx);
+    EXPECT_GT(r.rg, r.R - 2 * r.dx);
+    EXPECT_LT(r.caMean, 2e-2);
+  }
+  double sx = 0, sy = 0, sxx = 0, sxy = 0, wall = 0;
+  std::string res = "2D, R/dx =";
+  for (size_t k = 0; k < rows.size(); ++k) {
+    const double x = std::log(static_cast<double>(rows[k].rdx)), y = std::log(rows[k].caMean);
+    sx += x, sy += y, sxx += x * x, sxy += x * y;
+    wall += rows[k].wall;
+    res += (k ? ", " : " ") + std::to_string(rows[k].rdx);
+    if (k > 0) {
+      const double q = std::log(rows[k - 1].caMean / rows[k].caMean) /
+                       std::log(static_cast<double>(rows[k].rdx) / rows[k - 1].rdx);
+      std::printf("observed order of Ca between R/dx = %d and %d: %.2f\n", rows[k - 1].rdx, rows[k].rdx, q);
+    }
+  }
+  const double n = static_cast<double>(rows.size());
+  const double order = -(n * sxy - sx * sy) / (n * sxx - sx * sx);  // Ca ~ (R/dx)^-order
+  std::printf("least-squares order of Ca over %s: %.2f\n", res.c_str(), order);
+  recordValidation({caseName, "observed convergence order of the spurious-current Ca with R/dx",
+                    order, 0.0, 0.0, res + " (least squares of log Ca)", wall, "reported only",
+                    "none (CSF spurious currents need not converge)"});
+  return order;
+}
+
+}  // namespace poresph::test
