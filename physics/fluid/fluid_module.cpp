@@ -2,6 +2,7 @@
 
 #include <Eigen/LU>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -162,15 +163,7 @@ void FluidModule::initialise(Simulation& sim) {
     if (!md.owned) continue;
     if (md.fluid) {
       ph[i] = kPhaseFluid;
-      double rho0 = md.rho0;
-      if (hydrostaticInit_ && gNorm > 0.0) {
-        // p = p_b + rho0 |g| (level - height), height measured along -g.
-        double height = 0.0;
-        for (int a = 0; a < d; ++a) height -= x[i * d + a] * gravity_[static_cast<size_t>(a)] / gNorm;
-        const double ph0 = md.backgroundPressure + md.rho0 * gNorm * (hydrostaticLevel_ - height);
-        rho0 = densityOf(md, ph0);
-      }
-      if (rho[i] <= 0.0 || hydrostaticInit_) rho[i] = rho0;
+      if (rho[i] <= 0.0 || hydrostaticInit_) rho[i] = md.rho0;
       if (m[i] <= 0.0) m[i] = md.rho0 * cellVolume;
       if (col) col[i] = md.colour;
       p[i] = pressureOf(md, rho[i]);
@@ -183,11 +176,64 @@ void FluidModule::initialise(Simulation& sim) {
       for (int a = 0; a < d; ++a) v[i * d + a] = md.wallVelocity[static_cast<size_t>(a)];
     }
   }
+  if (hydrostaticInit_ && gNorm > 0.0) initialiseHydrostatic(sim);
   // Boundary particles of other modules: a volume is needed in the fluid sums.
   for (Index i = 0; i < n; ++i)
     if (ph[i] != kPhaseFluid && (rho[i] <= 0.0 || m[i] <= 0.0))
       throw InputError("fluid: boundary particle " + std::to_string(i) +
                        " has no positive density and mass (needed by the extended summation)");
+}
+
+// Hydrostatic initial state, dp/dz = -rho0(z) |g| integrated down every vertical column of fluid
+// particles (columns: the particles' positions across g, binned at the spacing), starting from
+// p = p_b at the height `hydrostatic_level`. Each particle gets the density its own EOS gives at
+// that pressure, so a column holding several fluids (a gas bubble in water, layered liquids)
+// starts in equilibrium: inside a bubble the pressure is that of the water at its depth, not
+// the gas' own (1000 times lighter) column. For a single fluid this is p_b + rho0 |g| (level - z).
+void FluidModule::initialiseHydrostatic(Simulation& sim) {
+  auto& st = sim.store;
+  const int d = dim_;
+  const Index n = st.realCount();
+  const double* x = st.data(st.position());
+  double* rho = st.data(st.density());
+  double* p = st.data(pressure);
+  const std::int32_t* ph = st.data(st.phase());
+  const std::int32_t* mt = st.data(st.material());
+  double gNorm = 0.0;
+  for (double g : gravity_) gNorm += g * g;
+  gNorm = std::sqrt(gNorm);
+  struct Entry {
+    std::array<long, 3> column;
+    double height;
+    Index i;
+  };
+  std::vector<Entry> e;
+  for (Index i = 0; i < n; ++i) {
+    if (ph[i] != kPhaseFluid) continue;
+    double height = 0.0;
+    for (int a = 0; a < d; ++a) height -= x[i * d + a] * gravity_[static_cast<size_t>(a)] / gNorm;
+    Entry en{{0, 0, 0}, height, i};
+    for (int a = 0; a < d; ++a) {  // position across g, binned
+      const double across = x[i * d + a] + height * gravity_[static_cast<size_t>(a)] / gNorm;
+      en.column[static_cast<size_t>(a)] = std::lround(std::floor(across / sim.spacing + 0.5));
+    }
+    e.push_back(en);
+  }
+  std::sort(e.begin(), e.end(), [](const Entry& a, const Entry& b) {
+    return a.column != b.column ? a.column < b.column : a.height > b.height;
+  });
+  double pPrev = 0.0, rhoPrev = 0.0, zPrev = 0.0;
+  for (size_t k = 0; k < e.size(); ++k) {
+    const MaterialData& md = mat_[static_cast<size_t>(mt[e[k].i])];
+    const bool top = k == 0 || e[k].column != e[k - 1].column;
+    const double pk = top ? md.backgroundPressure + md.rho0 * gNorm * (hydrostaticLevel_ - e[k].height)
+                          : pPrev + 0.5 * (rhoPrev + md.rho0) * gNorm * (zPrev - e[k].height);
+    rho[e[k].i] = densityOf(md, pk);
+    p[e[k].i] = pressureOf(md, rho[e[k].i]);
+    pPrev = pk;
+    rhoPrev = md.rho0;
+    zPrev = e[k].height;
+  }
 }
 
 double FluidModule::pressureOf(const MaterialData& m, double rho) {

@@ -88,6 +88,7 @@ class FluidModule : public Module {
   IntField interface;
 
  private:
+  void initialiseHydrostatic(Simulation& sim);
   template <int D> void kinematicsD(Simulation& sim);
   template <int D> void constitutiveD(Simulation& sim);
   template <int D> void forcesD(Simulation& sim);

@@ -325,3 +325,47 @@ TEST(FluidXsph, CorrectionMatchesClosedSumAndOnlyWhenAsked) {
     EXPECT_GT(rateB, 0.0);
   }
 }
+
+// Hydrostatic initialisation (`hydrostatic_level`) integrates dp/dz = -rho0 |g| down every
+// column of particles, so a gas bubble in water starts at the water's pressure: in a column that
+// misses the bubble p = p_b + rho_w g (L - z); below the bubble the column is lighter by
+// (rho_w - rho_g) g n_gas dx (n_gas gas particles above in that column, trapezoid rule); each particle's density
+// is its own EOS inverted at that pressure.
+TEST(FluidCore, HydrostaticColumnsThroughABubble) {
+  const double dx = 1e-4, Wd = 20 * dx, H = 30 * dx, R = 5 * dx, g = 9.81, pb = 50.0;
+  Simulation sim{2};
+  sim.spacing = dx;
+  sim.kernel = Kernel(KernelType::QuinticSpline, 2, dx);
+  sim.domain.lo = {0, 0, 0};
+  sim.domain.hi = {Wd, H, 0};
+  sim.domain.periodic = {true, false, false};
+  const int water = fs::addMaterial(sim, "water", "fluid", "{density: 1000, sound_speed: 5, viscosity: 1.0e-3, background_pressure: 50}");
+  const int gas = fs::addMaterial(sim, "gas", "fluid", "{density: 1, sound_speed: 50, viscosity: 1.0e-5, background_pressure: 50, colour: -1}");
+  FluidModule* fluid = fs::addFluidModule(sim, "{gravity: [0, -9.81], hydrostatic_level: 0.003}");
+  auto inBubble = [&](const double* x) { return std::hypot(x[0] - 0.5 * Wd, x[1] - 0.5 * H) < R; };
+  fs::addLattice(sim, {0, 0}, {Wd, H}, gas, inBubble);
+  fs::addLattice(sim, {0, 0}, {Wd, H}, water, [&](const double* x) { return !inBubble(x); });
+  fluid->initialise(sim);
+  const auto& st = sim.store;
+  const double* x = st.data(st.position());
+  const double* p = st.data(fluid->pressure);
+  const double* rho = st.data(st.density());
+  const std::int32_t* mt = st.data(st.material());
+  const Index n = st.realCount();
+  int checkedFree = 0, checkedBelow = 0;
+  for (Index i = 0; i < n; ++i) {
+    int gasAbove = 0;
+    for (Index j = 0; j < n; ++j)
+      if (mt[j] == gas && std::abs(x[2 * j] - x[2 * i]) < 1e-9 && x[2 * j + 1] > x[2 * i + 1]) ++gasAbove;
+    // (a gas particle itself: the trapezoid rule has half an interval of gas above it)
+    const double gasDepth = (gasAbove + (mt[i] == gas ? 0.5 : 0.0)) * dx;
+    const double ref = pb + g * (1000.0 * (H - x[2 * i + 1]) - (1000.0 - 1.0) * gasDepth);
+    ASSERT_NEAR(p[i], ref, 1e-9 * ref) << "particle at " << x[2 * i] << ", " << x[2 * i + 1];
+    const double rho0 = mt[i] == water ? 1000.0 : 1.0, c = mt[i] == water ? 5.0 : 50.0;
+    ASSERT_NEAR(rho[i], rho0 + (ref - pb) / (c * c), 1e-9 * rho0);
+    if (mt[i] == water && gasAbove == 0) ++checkedFree;
+    if (mt[i] == water && gasAbove > 0) ++checkedBelow;
+  }
+  EXPECT_GT(checkedFree, 100);
+  EXPECT_GT(checkedBelow, 50);
+}
