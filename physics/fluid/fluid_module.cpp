@@ -208,6 +208,10 @@ void FluidModule::initialiseHydrostatic(Simulation& sim) {
     Index i;
   };
   std::vector<Entry> e;
+  // Bins of width dx centred on the lattice of the first fluid particle (offset), so that
+  // particles of one lattice line never straddle a bin edge whatever their rounding.
+  double offset[3] = {0.0, 0.0, 0.0};
+  bool first = true;
   for (Index i = 0; i < n; ++i) {
     if (ph[i] != kPhaseFluid) continue;
     double height = 0.0;
@@ -215,8 +219,11 @@ void FluidModule::initialiseHydrostatic(Simulation& sim) {
     Entry en{{0, 0, 0}, height, i};
     for (int a = 0; a < d; ++a) {  // position across g, binned
       const double across = x[i * d + a] + height * gravity_[static_cast<size_t>(a)] / gNorm;
-      en.column[static_cast<size_t>(a)] = std::lround(std::floor(across / sim.spacing + 0.5));
+      const double u = across / sim.spacing;
+      if (first) offset[a] = u - std::floor(u);
+      en.column[static_cast<size_t>(a)] = std::lround(std::floor(u - offset[a] + 0.5));
     }
+    first = false;
     e.push_back(en);
   }
   std::sort(e.begin(), e.end(), [](const Entry& a, const Entry& b) {
