@@ -4,6 +4,8 @@
 #include <cstring>
 #include <sstream>
 
+#include <yaml-cpp/yaml.h>
+
 namespace poresph {
 
 Simulation::Simulation(int dimension) : store(dimension) {
@@ -18,6 +20,17 @@ Module* Simulation::module(const std::string& name) const {
   for (const auto& m : modules)
     if (m->name() == name) return m.get();
   return nullptr;
+}
+
+const Material& Simulation::addMaterial(const std::string& name, const std::string& model,
+                                       const std::string& yamlMapping, const std::string& origin) {
+  Material m;
+  m.id = static_cast<int>(materials.size());
+  m.name = name;
+  m.model = model;
+  m.parameters = ParameterSet(YAML::Load(yamlMapping), origin, "materials[" + std::to_string(m.id) + "]");
+  materials.push_back(m);
+  return materials.back();
 }
 
 void Simulation::addIntegrated(RealField value, RealField rate, bool freeOnly) {

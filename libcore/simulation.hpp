@@ -48,6 +48,10 @@ class Simulation {
   std::vector<IntegratedField> integrated;
   std::vector<std::unique_ptr<Module>> modules;
   std::vector<Material> materials;
+  /// Appends a material (id = its index) whose parameters are a YAML mapping given as text, for
+  /// scenes built in code (tests, benchmarks); errors name `origin` and materials[id].
+  const Material& addMaterial(const std::string& name, const std::string& model,
+                              const std::string& yamlMapping, const std::string& origin = "<code>");
 
   // ---- neighbours ----
   NeighbourList neighbours;  ///< of the real particles, over real and ghost particles

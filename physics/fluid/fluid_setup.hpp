@@ -20,13 +20,7 @@ namespace poresph::fluidsetup {
 /// Adds a material to sim.materials (id = its index) from a YAML mapping text.
 inline int addMaterial(Simulation& sim, const std::string& name, const std::string& model,
                        const std::string& yaml) {
-  Material m;
-  m.id = static_cast<int>(sim.materials.size());
-  m.name = name;
-  m.model = model;
-  m.parameters = ParameterSet(YAML::Load(yaml), "<test>", "materials[" + std::to_string(m.id) + "]");
-  sim.materials.push_back(m);
-  return m.id;
+  return sim.addMaterial(name, model, yaml, "<test>").id;
 }
 
 /// Creates, configures and adds the fluid module for every material of sim (section: YAML text).

@@ -18,13 +18,7 @@ namespace poresph::solid {
 /// Adds one material to sim.materials from a YAML mapping string (file name "test").
 inline const Material& addMaterial(Simulation& sim, const std::string& name,
                                    const std::string& model, const std::string& yaml) {
-  Material m;
-  m.id = static_cast<int>(sim.materials.size());
-  m.name = name;
-  m.model = model;
-  m.parameters = ParameterSet(YAML::Load(yaml), "test", "materials[" + std::to_string(m.id) + "]");
-  sim.materials.push_back(m);
-  return sim.materials.back();
+  return sim.addMaterial(name, model, yaml, "test");
 }
 
 /// Creates the "solid" module through the registry, configures it with every "elastic" material
