@@ -10,7 +10,9 @@ BUILD_DIR=${BUILD_DIR:-build}
 # The main job is the drainage-with-damage sample once it exists; until then the best available.
 SCENE=${1:-}
 if [ -z "$SCENE" ]; then
-  for candidate in samples/drainage_damage.yaml samples/fluid_poiseuille.yaml samples/fluid_box_at_rest.yaml; do
+  # (capillary entry: gas displacing water from a slit above its entry pressure, i.e. drainage
+  # of one pore throat)
+  for candidate in samples/drainage_damage.yaml samples/fluid_capillary_entry.yaml samples/fluid_poiseuille.yaml; do
     if [ -f "$candidate" ]; then SCENE=$candidate; break; fi
   done
 fi
