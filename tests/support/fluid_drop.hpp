@@ -20,6 +20,7 @@ struct FluidDrop {
     double R = 1.5e-3;
     double rOverDx = 15;
     double boxOverR = 3.0;      ///< B / R
+    double hOverDx = 1.0;       ///< smoothing length of the quintic spline / dx
     double gamma = 0.05;
     double rhoLiquid = 1000.0, rhoGas = 1000.0;
     double muLiquid = 0.3, muGas = 0.3;
@@ -42,7 +43,7 @@ struct FluidDrop {
     // the box holds an integer number of lattice cells (periodic lattice without a seam)
     B = std::round(p.boxOverR * p.rOverDx) * dx;
     sim.spacing = dx;
-    sim.kernel = Kernel(KernelType::QuinticSpline, d, 1.0 * dx);
+    sim.kernel = Kernel(KernelType::QuinticSpline, d, p.hOverDx * dx);
     sim.domain.lo = {0, 0, 0};
     sim.domain.hi = {B, B, d == 3 ? B : 0.0};
     sim.domain.periodic = {true, true, d == 3};

@@ -10,7 +10,8 @@
 // the observed order of Ca between resolutions; also the rms speed of all particles as a
 // capillary number (the largest speed is set by single interface particles).
 // Used by test_fluid_spurious_currents.cpp (R/dx = 10, 15, 20) and
-// test_fluid_spurious_currents_long.cpp (R/dx = 20, 30; label `long`).
+// test_fluid_spurious_currents_long.cpp (R/dx = 20, 30 at h = dx, and R/dx = 10, 20, 30 with
+// h/dx = 1, sqrt 2, sqrt 3, i.e. h ~ dx^(1/2): more neighbours as dx shrinks; label `long`).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -25,6 +26,7 @@ namespace poresph::test {
 
 struct SpuriousRow {
   int rdx = 0;
+  double hOverDx = 1.0;
   double dp = 0, ref = 0, err = 0, swing = 0;
   double caEnd = 0, caMean = 0, caRms = 0;
   double rl = 0, rg = 0, R = 0, dx = 0;
@@ -33,16 +35,18 @@ struct SpuriousRow {
   double wall = 0;
 };
 
-inline SpuriousRow runSpurious2D(int rdx) {
+inline SpuriousRow runSpurious2D(int rdx, double hOverDx = 1.0) {
   Stopwatch clock;
   FluidDrop::Params p;
   p.dim = 2;
   p.rOverDx = rdx;
+  p.hOverDx = hOverDx;
   FluidDrop d(p);
   const double period = d.B / p.cLiquid;
   const FluidDrop::Measurement m = d.settleAndMeasure(0.003, 0.012, period);
   SpuriousRow r;
   r.rdx = rdx;
+  r.hOverDx = hOverDx;
   r.ref = p.gamma / p.R;
   r.dp = m.dpMean;
   r.err = std::abs(m.dpMean - r.ref) / r.ref;
@@ -56,17 +60,21 @@ inline SpuriousRow runSpurious2D(int rdx) {
   r.steps = m.steps;
   r.particles = static_cast<long long>(d.count());
   r.wall = clock.seconds();
-  std::printf("R/dx = %2d: %6lld particles, %6ld steps, jump %.3f Pa (gamma/R = %.3f) error %.2f %% "
+  std::printf("R/dx = %2d, h/dx = %.3f: %6lld particles, %6ld steps, jump %.3f Pa (gamma/R = %.3f) error %.2f %% "
               "(swing %.2f %%), Ca end %.3e, window mean %.3e, rms-speed Ca %.3e, liquid extent %.3f R, nearest gas "
               "%.3f R, %.1f s\n",
-              rdx, r.particles, r.steps, r.dp, r.ref, 100 * r.err, 100 * r.swing, r.caEnd, r.caMean, r.caRms,
+              rdx, hOverDx, r.particles, r.steps, r.dp, r.ref, 100 * r.err, 100 * r.swing, r.caEnd, r.caMean, r.caRms,
               r.rl / r.R, r.rg / r.R, r.wall);
   std::fflush(stdout);
-  d.dumpSlice("fluid_spurious_R" + std::to_string(rdx) + ".txt");
-  const std::string res = "2D, R/dx = " + std::to_string(rdx) +
-                          ", periodic box 3R, quintic h = dx, Oh = 1.1, c = 2 m/s, t = 12 ms, " +
-                          std::to_string(r.steps) + " steps";
-  const std::string cs = "fluid_spurious_currents_2d_R" + std::to_string(rdx);
+  d.dumpSlice("fluid_spurious_R" + std::to_string(rdx) + (std::abs(hOverDx - 1.0) < 1e-12 ? "" : "_h") + ".txt");
+  char hs[32];
+  std::snprintf(hs, sizeof hs, "%.3f", hOverDx);
+  const bool unitH = std::abs(hOverDx - 1.0) < 1e-12;
+  const std::string res = "2D, R/dx = " + std::to_string(rdx) + ", periodic box 3R, quintic h = " +
+                          (unitH ? std::string("dx") : std::string(hs) + " dx") +
+                          ", Oh = 1.1, c = 2 m/s, t = 12 ms, " + std::to_string(r.steps) + " steps";
+  const std::string cs = "fluid_spurious_currents_2d_R" + std::to_string(rdx) +
+                         (unitH ? std::string() : "_h" + std::string(hs));
   recordValidation({cs, "spurious-current capillary number mu u_max / gamma (mean over the last 2.25 ms)",
                     r.caMean, 0.0, r.caMean, res, r.wall, "reported (asserted < 2e-2)",
                     "0 (exact solution at rest)"});
