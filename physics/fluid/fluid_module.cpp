@@ -190,12 +190,14 @@ void FluidModule::initialise(Simulation& sim) {
 // that pressure, so a column holding several fluids (a gas bubble in water, layered liquids)
 // starts in equilibrium: inside a bubble the pressure is that of the water at its depth, not
 // the gas' own (1000 times lighter) column. For a single fluid this is p_b + rho0 |g| (level - z).
+// Masses are scaled with the density so that the particle volumes stay the lattice cells.
 void FluidModule::initialiseHydrostatic(Simulation& sim) {
   auto& st = sim.store;
   const int d = dim_;
   const Index n = st.realCount();
   const double* x = st.data(st.position());
   double* rho = st.data(st.density());
+  double* m = st.data(st.mass());
   double* p = st.data(pressure);
   const std::int32_t* ph = st.data(st.phase());
   const std::int32_t* mt = st.data(st.material());
@@ -235,7 +237,14 @@ void FluidModule::initialiseHydrostatic(Simulation& sim) {
     const bool top = k == 0 || e[k].column != e[k - 1].column;
     const double pk = top ? md.backgroundPressure + md.rho0 * gNorm * (hydrostaticLevel_ - e[k].height)
                           : pPrev + 0.5 * (rhoPrev + md.rho0) * gNorm * (zPrev - e[k].height);
+    // The fluid is compressed in place: a particle keeps its volume V = m / rho (the lattice
+    // cell) and its mass follows the density. Keeping m = rho0 V instead leaves m / rho off the
+    // cell volume by the compression (7 % for gas at depth): the particle volumes then no longer
+    // tile the space and the pressure forces (5.2b, Hu-Adams) at a gas-water interface are out of
+    // balance; with gas expanded beyond its cell this drove water into a rising bubble.
+    const double volume = m[e[k].i] / rho[e[k].i];
     rho[e[k].i] = densityOf(md, pk);
+    m[e[k].i] = rho[e[k].i] * volume;
     p[e[k].i] = pressureOf(md, rho[e[k].i]);
     pPrev = pk;
     rhoPrev = md.rho0;

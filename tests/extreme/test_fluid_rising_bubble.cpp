@@ -34,7 +34,7 @@ TEST(FluidExtreme, RisingBubbleDensityRatio1000) {
                                   "{density: 1000, sound_speed: 3, viscosity: 0.1, colour: 1, background_pressure: 100}");
   char buf[300];
   std::snprintf(buf, sizeof buf, "{density: 1, sound_speed: 40, viscosity: 1.0e-3, colour: -1, background_pressure: %s}",
-                std::getenv("FLUID_GAS_PB") ? std::getenv("FLUID_GAS_PB") : "100");
+                std::getenv("FLUID_GAS_PB") ? std::getenv("FLUID_GAS_PB") : "220");
   const int gas = fs::addMaterial(sim, "gas", "fluid", buf);
   const int wall = fs::addMaterial(sim, "wall", "wall", "{density: 1000}");
   std::snprintf(buf, sizeof buf,
