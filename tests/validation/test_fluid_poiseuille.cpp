@@ -43,7 +43,9 @@ struct Channel {
     std::snprintf(buf, sizeof buf, "{density: 1000, sound_speed: %g, viscosity: %g}", c, mu2);
     const int f2 = fs::addMaterial(sim, "fluid2", "fluid", buf);
     const int wall = fs::addMaterial(sim, "wall", "wall", "{density: 1000}");
-    std::snprintf(buf, sizeof buf, "{gravity: [%g, 0]}", F);
+    // FLUID_EXTRA (studies only): more keys for the fluid section, e.g. "viscosity_mean: arithmetic".
+    std::snprintf(buf, sizeof buf, "{gravity: [%g, 0]%s%s}", F, std::getenv("FLUID_EXTRA") ? ", " : "",
+                  std::getenv("FLUID_EXTRA") ? std::getenv("FLUID_EXTRA") : "");
     fluid = fs::addFluidModule(sim, buf);
     fs::addLattice(sim, {0, 0}, {Lx, 0.5 * L}, f1);
     fs::addLattice(sim, {0, 0.5 * L}, {Lx, L}, f2);
