@@ -1,6 +1,6 @@
 // Validation: oscillating 2D droplet, mode 2 (issue 5): the period and damping rate of the
 // mode-2 shape oscillation against the linear normal mode of a viscous drop in a viscous outer
-// fluid inside the periodic box (reference below, derivation in the comments of namespace ref).
+// fluid inside the periodic box (reference and derivation: namespace ref of tests/support/oscillating_droplet.hpp).
 //
 // Why not the plain Rayleigh-Lamb law omega0^2 = (n^3 - n) gamma / ((rho_in + rho_out) R^3): it
 // assumes an inviscid, unbounded outer fluid. With equal densities the outer fluid carries half
@@ -89,7 +89,7 @@ TEST(FluidOscillatingDroplet, Mode2PeriodAndDampingViscousBox) {
                 "(mu %g Pa s, Oh %.3f), amplitude %g %%, p_b %g Pa, c %g m/s, %lld steps", rdx, boxR, mu,
                 mu / std::sqrt(rho * gamma * R0), 100 * eps, pb, c, run.steps);
   const std::string src = "linear viscous normal mode in the box (2D Rayleigh-Lamb with outer fluid, "
-                          "box added mass, interface vorticity layer; derivation in the test)";
+                          "box added mass, interface vorticity layer; derivation in tests/support/oscillating_droplet.hpp)";
   test::recordValidation({"fluid_oscillating_droplet_2d", "period of mode 2 (s)", T, Tref, err, res, run.wall,
                           "< 10 %", src});
   test::recordValidation({"fluid_oscillating_droplet_2d", "damping rate of mode 2 (1/s)", run.beta, m.beta, errBeta,
