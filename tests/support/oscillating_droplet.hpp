@@ -234,7 +234,7 @@ inline DropletRun runDroplet(double rdx, double boxR, double mu, double pb, doub
                       double tRef) {
   test::Stopwatch clock;
   Simulation sim(2);
-  const double R0 = 1.5e-3, dx = R0 / rdx, B = boxR * R0, gamma = 0.05;
+  const double R0 = 1.5e-3, dx = R0 / rdx, B = boxR * R0, gamma = env("OSC_GAMMA", 0.05);
   sim.spacing = dx;
   sim.kernel = Kernel(KernelType::QuinticSpline, 2, dx);
   sim.domain.lo = {0, 0, 0};
@@ -254,6 +254,20 @@ inline DropletRun runDroplet(double rdx, double boxR, double mu, double pb, doub
   const Index nLiq = fs::addLattice(sim, {0, 0}, {B, B}, liq, inside);
   fs::addLattice(sim, {0, 0}, {B, B}, gas, [&](const double* x) { return !inside(x); });
   fluid->initialise(sim);
+  // Study hook OSC_U0 (m/s): start with the mode-2 potential flow u_r = U0 (r/R) cos 2th,
+  // u_th = -U0 (r/R) sin 2th inside, U0 (R/r)^3 (cos 2th, sin 2th) outside (with OSC_GAMMA ~ 0 it
+  // shows whether anything but surface tension pulls the shape back).
+  if (const double U0 = env("OSC_U0", 0.0); U0 != 0.0) {
+    double* x = sim.store.data(sim.store.position());
+    double* v = sim.store.data(sim.store.velocity());
+    for (Index i = 0; i < sim.store.realCount(); ++i) {
+      const double X = x[2 * i] - 0.5 * B, Y = x[2 * i + 1] - 0.5 * B, r = std::hypot(X, Y), th = std::atan2(Y, X);
+      const double f = r < R0 ? r / R0 : std::pow(R0 / r, 3), sg = r < R0 ? -1.0 : 1.0;
+      const double ur = U0 * f * std::cos(2 * th), ut = sg * U0 * f * std::sin(2 * th);
+      v[2 * i] = ur * std::cos(th) - ut * std::sin(th);
+      v[2 * i + 1] = ur * std::sin(th) + ut * std::cos(th);
+    }
+  }
   DropletRun out{};
   out.R = std::sqrt(static_cast<double>(nLiq) * dx * dx / kPi);  // equal-area radius
   auto amplitude = [&]() {
