@@ -27,6 +27,7 @@ struct FluidDrop {
     double cLiquid = 2.0, cGas = 2.0;
     double backgroundPressure = 0.0;
     std::string extra;          ///< extra keys of the fluid section, starting with ", "
+    bool square = false;        ///< a square / cube of the same area / volume instead
   };
 
   Simulation sim;
@@ -59,10 +60,14 @@ struct FluidDrop {
     std::snprintf(buf, sizeof buf, "{surface_tension: %g%s}", p.gamma, p.extra.c_str());
     fluid = fs::addFluidModule(sim, buf);
     const double c = 0.5 * B, RR = R;
+    // side of the square (cube) of the disc's area (sphere's volume)
+    const double side = d == 2 ? std::sqrt(3.14159265358979323846) * R
+                               : std::cbrt(4.0 * 3.14159265358979323846 / 3.0) * R;
+    const bool square = p.square;
     auto inside = [=](const double* x) {
-      double r2 = 0;
-      for (int a = 0; a < d; ++a) r2 += (x[a] - c) * (x[a] - c);
-      return r2 < RR * RR;
+      double r2 = 0, m = 0;
+      for (int a = 0; a < d; ++a) r2 += (x[a] - c) * (x[a] - c), m = std::max(m, std::abs(x[a] - c));
+      return square ? m < 0.5 * side : r2 < RR * RR;
     };
     const std::vector<double> lo(static_cast<size_t>(d), 0.0), hi(static_cast<size_t>(d), B);
     fs::addLattice(sim, lo, hi, liq, inside);

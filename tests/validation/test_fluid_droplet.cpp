@@ -7,12 +7,12 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
 #include <string>
 #include <vector>
 
 #include "libcore/phases.hpp"
 #include "physics/fluid/fluid_setup.hpp"
+#include "tests/support/fluid_drop.hpp"
 #include "tests/support/validation_record.hpp"
 
 using namespace poresph;
@@ -20,95 +20,36 @@ namespace fs = poresph::fluidsetup;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
-// Periodic box [0, B)^2 of gas with a liquid drop (disc of radius R or square of side S) at the
-// centre; equal densities and viscosities (the thesis' colours +1 / -1).
-struct Drop {
-  Simulation sim{2};
-  FluidModule* fluid = nullptr;
-  fs::Stepper stepper;
-  double dx, R, B, gamma = 0.05, mu = 0.3, rho = 1000.0, c = 2.0;
-  Drop(double radius, int rOverDx, bool square, double rhoGas = 1000.0, double muGas = 0.3,
-       const std::string& extra = "", double muLiquid = 0.3) {
-    mu = muLiquid;
-    R = radius;
-    dx = R / rOverDx;
-    B = 3.0 * R;
-    sim.spacing = dx;
-    sim.kernel = Kernel(KernelType::QuinticSpline, 2, 1.0 * dx);
-    sim.domain.lo = {0, 0, 0};
-    sim.domain.hi = {B, B, 0};
-    sim.domain.periodic = {true, true, false};
-    char buf[300];
-    std::snprintf(buf, sizeof buf, "{density: %g, sound_speed: %g, viscosity: %g, colour: 1}", rho, c, mu);
-    const int liq = fs::addMaterial(sim, "liquid", "fluid", buf);
-    std::snprintf(buf, sizeof buf, "{density: %g, sound_speed: %g, viscosity: %g, colour: -1}", rhoGas, c, muGas);
-    const int gas = fs::addMaterial(sim, "gas", "fluid", buf);
-    std::snprintf(buf, sizeof buf, "{surface_tension: %g%s}", gamma, extra.c_str());
-    fluid = fs::addFluidModule(sim, buf);
-    const double side = std::sqrt(kPi) * R;  // square of the same area
-    auto inside = [=](const double* x) {
-      const double X = x[0] - 0.5 * B, Y = x[1] - 0.5 * B;
-      return square ? (std::abs(X) < 0.5 * side && std::abs(Y) < 0.5 * side) : (X * X + Y * Y < R * R);
-    };
-    fs::addLattice(sim, {0, 0}, {B, B}, liq, inside);
-    fs::addLattice(sim, {0, 0}, {B, B}, gas, [&](const double* x) { return !inside(x); });
-    fluid->initialise(sim);
-  }
-  // Mean pressure inside r < r1 and outside r > r2 (distance from the box centre).
-  void pressures(double r1, double r2, double& pin, double& pout) const {
-    const auto& st = sim.store;
-    const double* x = st.data(st.position());
-    const double* p = st.data(fluid->pressure);
-    double si = 0, ni = 0, so = 0, no = 0;
-    for (Index i = 0; i < st.realCount(); ++i) {
-      const double r = std::hypot(x[2 * i] - 0.5 * B, x[2 * i + 1] - 0.5 * B);
-      if (r < r1) si += p[i], ni += 1;
-      if (r > r2) so += p[i], no += 1;
-    }
-    pin = si / ni;
-    pout = so / no;
-  }
-  double maxSpeed() const {
-    const auto& st = sim.store;
-    const double* v = st.data(st.velocity());
-    double m = 0;
-    for (Index i = 0; i < st.realCount(); ++i) m = std::max(m, std::hypot(v[2 * i], v[2 * i + 1]));
-    return m;
-  }
-  void dump(const std::string& name) const {
-    const auto& st = sim.store;
-    std::ofstream f(std::string(PORESPH_BINARY_DIR) + "/" + name);
-    const double* x = st.data(st.position());
-    const double* col = st.data(fluid->colour);
-    const double* p = st.data(fluid->pressure);
-    const double* k = st.data(fluid->curvature);
-    const double* v = st.data(st.velocity());
-    for (Index i = 0; i < st.realCount(); ++i)
-      f << x[2 * i] << " " << x[2 * i + 1] << " " << col[i] << " " << p[i] << " " << k[i] << " "
-        << std::hypot(v[2 * i], v[2 * i + 1]) << "\n";
-  }
-};
+// Periodic box 3R of gas with a liquid drop (disc of radius R, or square of the same area) at the
+// centre; equal densities and viscosities (the thesis' colours +1 / -1). Scene: FluidDrop.
+test::FluidDrop::Params dropParams(int rOverDx, bool square, double mu) {
+  test::FluidDrop::Params p;
+  p.dim = 2;
+  p.R = 1.5e-3;
+  p.rOverDx = rOverDx;
+  p.muLiquid = p.muGas = mu;
+  p.square = square;
+  return p;
+}
 
 }  // namespace
 
 TEST(FluidDroplet, StaticLaplaceJump2D) {
   test::Stopwatch clock;
   const int rdx = 15;
-  Drop d(1.5e-3, rdx, false);  // Ohnesorge 1.1: the drop's oscillation is damped by t_end
+  test::FluidDrop d(dropParams(rdx, false, 0.3));  // Ohnesorge 1.1: the drop's oscillation is damped by t_end
   const double tEnd = std::getenv("FLUID_TEND") ? std::atof(std::getenv("FLUID_TEND")) : 0.012;  // 1.6 viscous times R^2/nu, 1.5 capillary times
   d.stepper.runTo(d.sim, tEnd);
   double pin, pout;
   const double h = d.sim.kernel.h();
   d.pressures(d.R - 3 * h, d.R + 3 * h, pin, pout);
-  const double dp = pin - pout, ref = d.gamma / d.R;
+  const double dp = pin - pout, ref = d.prm.gamma / d.R;
   const double err = std::abs(dp - ref) / ref;
-  const double ca = d.mu * d.maxSpeed() / d.gamma;
+  const double ca = d.prm.muLiquid * d.maxSpeed() / d.prm.gamma;
   const double wall = clock.seconds();
   std::printf("R/dx = %d: dp = %.3f Pa (gamma/R = %.3f), error %.2f %%, Ca_spurious = %.2e, %lld steps, %.1f s\n",
               rdx, dp, ref, 100 * err, ca, static_cast<long long>(d.sim.step), wall);
-  d.dump("fluid_static_droplet.txt");
+  d.dumpSlice("fluid_static_droplet.txt");
   EXPECT_LT(err, 0.05);
   EXPECT_LT(ca, 2e-2);
   const std::string res = "R/dx = 15, periodic box 3R, quintic spline h = dx, density and viscosity ratio 1, Oh = 1.1";
@@ -124,7 +65,7 @@ TEST(FluidDroplet, SquareRelaxesToCircle) {
   test::Stopwatch clock;
   const int rdx = 15;
   // Ohnesorge 0.3 (mu = 0.08 Pa s): mode 4 (period 6.7 ms) is near critical damping.
-  Drop d(1.5e-3, rdx, true, 1000.0, 0.08, "", 0.08);
+  test::FluidDrop d(dropParams(rdx, true, 0.08));
   d.stepper.runTo(d.sim, 0.015);
   d.sim.updateNeighbours();
   const auto& st = d.sim.store;
@@ -167,7 +108,7 @@ TEST(FluidDroplet, SquareRelaxesToCircle) {
   const double wall = clock.seconds();
   std::printf("mean boundary radius %.4e m (R = %.4e, outermost centres ~ R - dx/2), mode 2 %.3f %%, mode 4 %.3f %%, %.1f s\n",
               r0, d.R, 100 * m2, 100 * m4, wall);
-  d.dump("fluid_square_droplet.txt");
+  d.dumpSlice("fluid_square_droplet.txt");
   EXPECT_LT(m2, 0.01);
   EXPECT_LT(m4, 0.01);
   const double dev = std::max(m2, m4);
