@@ -5,16 +5,4 @@
 # Usage: bash benchmarks/run_dam_break.sh [BUILD_DIR]
 set -euo pipefail
 cd "$(dirname "$0")/.."
-BUILD_DIR=${1:-build}
-for t in 1 2; do
-  out=$(mktemp -d)
-  log=$("$BUILD_DIR/poresph" run benchmarks/scenes/dam_break_3d.yaml --out "$out" --force --threads "$t" 2>&1)
-  # Steady rate from the progress lines: (last step - first step) / (last wall - first wall).
-  echo "$log" | awk -v t="$t" '
-    /^step / { s = $2; for (i = 1; i <= NF; ++i) if ($i == "wall") w = $(i+1); if (!n++) { s0 = s; w0 = w } }
-    /^particles:/ { np = $2 }
-    END { if (n < 2) { print "too few progress lines"; exit 1 }
-          r = (s - s0) / (w - w0); ps = r * 176868;
-          printf "threads %d: %.4f s/step, %.3g particle-steps/s, %.3g per core\n", t, 1 / r, ps, ps / t }'
-  rm -rf "$out"
-done
+exec bash benchmarks/run_step_rate.sh benchmarks/scenes/dam_break_3d.yaml "${1:-build}"

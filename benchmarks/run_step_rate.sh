@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# Full-step speed of `poresph run` on one scene, 1 and 2 threads: particle-steps per second (all
+# particles, walls included, as DualSPHysics counts them) from the steady part of the progress
+# lines: (last step - first step) / (last wall - first wall). Output goes to a temporary folder.
+# Usage: bash benchmarks/run_step_rate.sh SCENE [BUILD_DIR]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+SCENE=${1:?usage: run_step_rate.sh SCENE [BUILD_DIR]}
+BUILD_DIR=${2:-build}
+np=$("$BUILD_DIR/poresph" info "$SCENE" | awk '/^particles:/ { print $2 }')
+for t in 1 2; do
+  out=$(mktemp -d)
+  log=$("$BUILD_DIR/poresph" run "$SCENE" --out "$out" --force --threads "$t" 2>&1)
+  echo "$log" | awk -v t="$t" -v np="$np" '
+    /^step / { s = $2; for (i = 1; i <= NF; ++i) if ($i == "wall") w = $(i+1); if (!n++) { s0 = s; w0 = w } }
+    END { if (n < 2) { print "too few progress lines"; exit 1 }
+          r = (s - s0) / (w - w0); ps = r * np;
+          printf "threads %d: %d particles, %.4f s/step, %.3g particle-steps/s, %.3g per core\n", t, np, 1 / r, ps, ps / t }'
+  rm -rf "$out"
+done
