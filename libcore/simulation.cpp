@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstring>
 #include <sstream>
+#include <stdexcept>
 
 #include <yaml-cpp/yaml.h>
 
@@ -34,8 +35,15 @@ const Material& Simulation::addMaterial(const std::string& name, const std::stri
 }
 
 void Simulation::addIntegrated(RealField value, RealField rate, bool freeOnly) {
-  for (const auto& f : integrated)
-    if (f.value.id == value.id) return;
+  for (const auto& f : integrated) {
+    if (f.value.id != value.id) continue;
+    if (f.rate.id == rate.id) return;
+    // One rate per integrated field: the integrators keep one scratch copy per field, so a
+    // second rate (e.g. two modules' XSPH corrections of the positions) would be lost silently.
+    throw std::logic_error("field '" + store.spec(value.id).name + "' already has the rate '" +
+                           store.spec(f.rate.id).name + "'; a second rate '" +
+                           store.spec(rate.id).name + "' cannot be integrated into it");
+  }
   integrated.push_back(IntegratedField{value, rate, freeOnly});
 }
 

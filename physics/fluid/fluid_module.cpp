@@ -98,6 +98,7 @@ void FluidModule::configure(Simulation& sim, const std::vector<const Material*>&
     normaliseViscosity_ = s.boolean("viscosity_normalisation", true);
     artificialViscosity_ = s.real("artificial_viscosity", 0.0, Range::closed(0.0, 10.0));
     xsph_ = s.real("xsph", 0.0, Range::closed(0.0, 1.0));
+    shifting_ = s.real("shifting", 0.0, Range::closed(0.0, 10.0));
     densityBound_ = s.real("density_variation_bound", 0.03, Range{0.0, 1.0, true, false});
     cflAcoustic_ = s.real("cfl_acoustic", 0.25, Range{0.0, 1.0, true, false});
     cflViscous_ = s.real("cfl_viscous", 0.125, Range{0.0, 1.0, true, false});
@@ -129,12 +130,13 @@ void FluidModule::configure(Simulation& sim, const std::vector<const Material*>&
     interface = st.addInt("interface", 1, kFieldOutput, "fluid");
   }
   if (!summation_) sim.addIntegrated(st.density(), densityRate, true);
-  xsphVelocity = RealField{};
-  if (xsph_ > 0.0) {
-    // XSPH (Eq. 2.66) moves a particle with v + eps sum_b m_b/rho_ab (v_b - v_a) W_ab: the
-    // correction is a second rate of the positions, advanced by the integrator like any field.
-    xsphVelocity = st.addReal("fluid_xsph_velocity", d, kFieldNone, "fluid");
-    sim.addIntegrated(st.position(), xsphVelocity, true);
+  positionCorrection = RealField{};
+  if (xsph_ > 0.0 || shifting_ > 0.0) {
+    // XSPH (Eq. 2.66) and particle shifting move a particle with v + dv: the correction dv is a
+    // second rate of the positions, advanced by the integrator like any field (one field for
+    // both: the integrators take one rate per field).
+    positionCorrection = st.addReal("fluid_position_correction", d, kFieldNone, "fluid");
+    sim.addIntegrated(st.position(), positionCorrection, true);
   }
 }
 
@@ -531,7 +533,19 @@ void FluidModule::forcesD(Simulation& sim) {
   const std::int32_t* mo = st.data(sim.motion);
   double* acc = st.data(sim.acceleration);
   double* drho = summation_ ? nullptr : st.data(densityRate);
-  double* xsphRate = xsph_ > 0.0 ? st.data(xsphVelocity) : nullptr;
+  double* corrRate = positionCorrection.valid() ? st.data(positionCorrection) : nullptr;
+  const bool xsphOn = xsph_ > 0.0, shiftOn = shifting_ > 0.0;
+  // Shifting velocity scale: the largest fluid speed (particles at rest are not shifted).
+  double uShift = 0.0;
+  if (shiftOn) {
+#pragma omp parallel for schedule(static) reduction(max : uShift)
+    for (Index i = 0; i < n; ++i) {
+      if (ph[i] != kPhaseFluid) continue;
+      double v2 = 0.0;
+      for (int a = 0; a < D; ++a) v2 += v[i * D + a] * v[i * D + a];
+      uShift = std::max(uShift, std::sqrt(v2));
+    }
+  }
   const double* ng = gamma_ > 0.0 ? st.data(colourGradient) : nullptr;
   const double* kap = gamma_ > 0.0 ? st.data(curvature) : nullptr;
   const std::int32_t* itf = gamma_ > 0.0 ? st.data(interface) : nullptr;
@@ -552,7 +566,8 @@ void FluidModule::forcesD(Simulation& sim) {
     const double Va = m[i] / rhoa;
     Vec<D> va;
     for (int a = 0; a < D; ++a) va[a] = v[i * D + a];
-    Vec<D> aP = Vec<D>::Zero(), aV = Vec<D>::Zero(), aA = Vec<D>::Zero(), dvX = Vec<D>::Zero();
+    Vec<D> aP = Vec<D>::Zero(), aV = Vec<D>::Zero(), aA = Vec<D>::Zero(), dvX = Vec<D>::Zero(),
+           gradC = Vec<D>::Zero();
     double divv = 0.0, diff = 0.0, moment = 0.0;
     for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
       const Index j = nl.index[static_cast<size_t>(k)];
@@ -576,7 +591,7 @@ void FluidModule::forcesD(Simulation& sim) {
           diff += 2.0 * Vb * (rhoa - rhob) * F;
         // XSPH (2.66) within one material: averaging across a density jump would drag the light
         // phase with the heavy one.
-        if (xsphRate && idb == ida) dvX += (2.0 * m[j] / (rhoa + rhob) * W.value(r.norm())) * (vb - va);
+        if (xsphOn && idb == ida) dvX += (2.0 * m[j] / (rhoa + rhob) * W.value(r.norm())) * (vb - va);
       } else {
         // Boundary particle: extrapolated pressure, the density the fluid a would have at that
         // pressure, the boundary particle's own volume; no-slip through v~_w.
@@ -603,6 +618,7 @@ void FluidModule::forcesD(Simulation& sim) {
         aV += (muBar * Vb * F / rhoa) * vab;                              // Eq. 5.4
       }
       divv += Vb * (va - vb).dot(gradW);  // Eq. 5.1a (boundary: its own velocity)
+      if (shiftOn) gradC += Vb * gradW;   // gradient of the particle concentration sum_b V_b W_ab
       if (artificialViscosity_ > 0.0) {
         // Monaghan's artificial viscosity (Eq. 2.64, linear term only), approaching pairs.
         const double vr = (va - vb).dot(r);
@@ -635,8 +651,21 @@ void FluidModule::forcesD(Simulation& sim) {
     }
     for (int a = 0; a < D; ++a) acc[i * D + a] += ai[a];
     if (drho) drho[i] += rhoa * divv + densityDiffusion_ * h * ma.soundSpeed * diff;
-    if (xsphRate)
-      for (int a = 0; a < D; ++a) xsphRate[i * D + a] += xsph_ * dvX[a];
+    if (corrRate) {
+      // Particle shifting (Lind et al. 2012; velocity form of Sun et al. 2017's
+      // dr = -CFL Ma (2h)^2 grad C): dv_s = -A h U grad C moves particles from crowded to sparse
+      // regions; |dv_s| is capped at U / 2. Both phases fill the domain, so grad C ~ 0 across a
+      // liquid-gas interface of consistent volumes: no interface treatment is applied (a free
+      // surface would need one).
+      Vec<D> dv = xsph_ * dvX;
+      if (shiftOn) {
+        Vec<D> ds = -shifting_ * h * uShift * gradC;
+        const double cap = 0.5 * uShift, len = ds.norm();
+        if (len > cap) ds *= cap / len;
+        dv += ds;
+      }
+      for (int a = 0; a < D; ++a) corrRate[i * D + a] += dv[a];
+    }
   }
 }
 

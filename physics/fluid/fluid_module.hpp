@@ -84,7 +84,9 @@ class FluidModule : public Module {
 
   // field handles
   RealField pressure, densityRate, colour, colourGradient, curvature, wallVelocity;
-  RealField xsphVelocity;  ///< XSPH correction (2.66), a second position rate; only with xsph > 0
+  /// Position correction: XSPH (2.66) plus particle shifting, a second rate of the positions;
+  /// registered only with xsph > 0 or shifting > 0.
+  RealField positionCorrection;
   IntField interface;
 
  private:
@@ -109,6 +111,7 @@ class FluidModule : public Module {
   bool normaliseViscosity_ = true;  // divide 5.4 by the discrete second moment
   double artificialViscosity_ = 0.0;  // alpha of Eq. 2.64 (0: off)
   double xsph_ = 0.0;               // epsilon of XSPH, Eq. 2.66 (0: off)
+  double shifting_ = 0.0;           // coefficient A of the particle shifting velocity (0: off)
   double densityBound_ = 0.03;
   double cflAcoustic_ = 0.25, cflViscous_ = 0.125, cflForce_ = 0.25, cflSurface_ = 0.25;
   bool hydrostaticInit_ = false;

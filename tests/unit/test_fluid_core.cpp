@@ -284,8 +284,8 @@ TEST(FluidXsph, CorrectionMatchesClosedSumAndOnlyWhenAsked) {
     FluidModule* fluid = fs::addFluidModule(sim, buf);
     fs::addLattice(sim, {0, 0}, {12 * dx, 12 * dx}, 0);
     fluid->initialise(sim);
-    EXPECT_EQ(fluid->xsphVelocity.valid(), eps > 0.0);
-    EXPECT_EQ(sim.store.has("fluid_xsph_velocity"), eps > 0.0);
+    EXPECT_EQ(fluid->positionCorrection.valid(), eps > 0.0);
+    EXPECT_EQ(sim.store.has("fluid_position_correction"), eps > 0.0);
     if (eps == 0.0) continue;
     auto& st = sim.store;
     const Index n = st.realCount();
@@ -294,14 +294,14 @@ TEST(FluidXsph, CorrectionMatchesClosedSumAndOnlyWhenAsked) {
     double* v = st.data(st.velocity());
     for (Index i = 0; i < 2 * n; ++i) v[i] = 0.3;  // uniform translation: no correction
     sim.evaluateRates();
-    const double* dv = st.data(fluid->xsphVelocity);
+    const double* dv = st.data(fluid->positionCorrection);
     for (Index i = 0; i < 2 * n; ++i) ASSERT_NEAR(dv[i], 0.0, 1e-14);
     v = st.data(st.velocity());
     for (Index i = 0; i < 2 * n; ++i) v[i] = 0.0;
     const double u = 0.2;
     v[0] = u;  // one particle moves (any one: the box is periodic)
     sim.evaluateRates();
-    dv = st.data(fluid->xsphVelocity);
+    dv = st.data(fluid->positionCorrection);
     v = st.data(st.velocity());
     const double* x = st.data(st.position());
     Index a = 0;
@@ -368,4 +368,50 @@ TEST(FluidCore, HydrostaticColumnsThroughABubble) {
   }
   EXPECT_GT(checkedFree, 100);
   EXPECT_GT(checkedBelow, 50);
+}
+
+// Particle shifting (fluid key `shifting`): -A h U grad C with C = sum_b V_b W_ab. On a perfect
+// periodic lattice grad C = 0 (no correction); a particle pushed off its site is moved back
+// toward it (the correction points against the displacement) and capped at U / 2; off, the
+// correction field does not exist.
+TEST(FluidShifting, MovesADisplacedParticleBackAndNothingOnALattice) {
+  for (double A : {0.0, 2.0}) {
+    const double dx = 1e-3, U = 0.1;
+    Simulation sim{2};
+    sim.spacing = dx;
+    sim.kernel = Kernel(KernelType::QuinticSpline, 2, dx);
+    sim.domain.lo = {0, 0, 0};
+    sim.domain.hi = {12 * dx, 12 * dx, 0};
+    sim.domain.periodic = {true, true, false};
+    fs::addMaterial(sim, "water", "fluid", "{density: 1000, sound_speed: 10, viscosity: 1.0e-3}");
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "{shifting: %g}", A);
+    FluidModule* fluid = fs::addFluidModule(sim, buf);
+    fs::addLattice(sim, {0, 0}, {12 * dx, 12 * dx}, 0);
+    fluid->initialise(sim);
+    EXPECT_EQ(fluid->positionCorrection.valid(), A > 0.0);
+    if (A == 0.0) continue;
+    auto& st = sim.store;
+    const Index n = st.realCount();
+    double* v = st.data(st.velocity());
+    for (Index i = 0; i < n; ++i) v[2 * i] = U, v[2 * i + 1] = 0.0;  // sets the velocity scale
+    sim.evaluateRates();
+    const double* dv = st.data(fluid->positionCorrection);
+    for (Index i = 0; i < 2 * n; ++i) ASSERT_NEAR(dv[i], 0.0, 1e-12 * U);
+    double* x = st.data(st.position());
+    const double shift[2] = {0.2 * dx, 0.1 * dx};
+    x[0] += shift[0];  // push particle 0 off its site (ids follow it through reordering)
+    x[1] += shift[1];
+    const std::int32_t id0 = st.data(st.id())[0];
+    sim.evaluateRates();
+    dv = st.data(fluid->positionCorrection);
+    const std::int32_t* id = st.data(st.id());
+    Index a = 0;
+    while (id[a] != id0) ++a;
+    const double dot = dv[2 * a] * shift[0] + dv[2 * a + 1] * shift[1];
+    const double len = std::hypot(dv[2 * a], dv[2 * a + 1]);
+    EXPECT_LT(dot, -0.5 * len * std::hypot(shift[0], shift[1]));  // within 60 degrees of -shift
+    EXPECT_GT(len, 0.0);
+    EXPECT_LE(len, 0.5 * U * (1 + 1e-12));
+  }
 }

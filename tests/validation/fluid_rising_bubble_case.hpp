@@ -44,9 +44,11 @@ inline RiseResult runHysing1(int rOverDx, const std::string& dumpName) {
   const int liq = fluidsetup::addMaterial(sim, "liquid", "fluid", "{density: 1000, sound_speed: 10, viscosity: 10, colour: 1, background_pressure: 100}");
   const int gas = fluidsetup::addMaterial(sim, "gas", "fluid", "{density: 100, sound_speed: 30, viscosity: 1, colour: -1, background_pressure: 100}");
   const int wall = fluidsetup::addMaterial(sim, "wall", "wall", "{density: 1000}");
+  // FLUID_EXTRA: extra fluid keys (", key: value") for studies, e.g. ", shifting: 1"
+  const std::string extra = std::getenv("FLUID_EXTRA") ? std::getenv("FLUID_EXTRA") : "";
   FluidModule* fluid = fluidsetup::addFluidModule(
       sim, "{surface_tension: 24.5, pressure_gradient: hu_adams, wall_wetting: false, "
-           "gravity: [0, -0.98], hydrostatic_level: 2.0}");
+           "gravity: [0, -0.98], hydrostatic_level: 2.0" + extra + "}");
   auto inBubble = [&](const double* x) { return std::hypot(x[0] - 0.5, x[1] - 0.5) < R; };
   fluidsetup::addLattice(sim, {0, 0}, {Lx, Ly}, gas, inBubble);
   fluidsetup::addLattice(sim, {0, 0}, {Lx, Ly}, liq, [&](const double* x) { return !inBubble(x); });
