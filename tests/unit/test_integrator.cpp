@@ -340,3 +340,16 @@ TEST(Integrator, CflTimeStepEq249) {
 }
 
 }  // namespace
+
+// One rate per integrated field: registering the same pair twice is harmless, a second rate for
+// the same field is refused loudly (the integrators keep one scratch copy per field, so it would
+// otherwise be lost without a word).
+TEST(IntegratedFields, SecondRateForOneFieldIsRefused) {
+  Simulation sim(2);
+  const RealField r1 = sim.store.addReal("correction_a", 2, kFieldNone, "test");
+  const RealField r2 = sim.store.addReal("correction_b", 2, kFieldNone, "test");
+  sim.addIntegrated(sim.store.position(), r1);
+  EXPECT_NO_THROW(sim.addIntegrated(sim.store.position(), r1));
+  EXPECT_EQ(sim.integrated.size(), 1u);
+  EXPECT_THROW(sim.addIntegrated(sim.store.position(), r2), std::logic_error);
+}
