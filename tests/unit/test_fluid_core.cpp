@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <string>
 
 #include "libcore/phases.hpp"
 #include "physics/fluid/fluid_setup.hpp"
@@ -265,6 +266,21 @@ TEST(FluidWetting, PrescribedContactLineNormal) {
   EXPECT_GE(nFree, 4);
 }
 
+// A periodic 12 x 12 lattice of water (dx = 1 mm, quintic h = dx) with the fluid section given.
+static FluidModule* periodicWaterLattice(Simulation& sim, const std::string& section) {
+  const double dx = 1e-3;
+  sim.spacing = dx;
+  sim.kernel = Kernel(KernelType::QuinticSpline, 2, dx);
+  sim.domain.lo = {0, 0, 0};
+  sim.domain.hi = {12 * dx, 12 * dx, 0};
+  sim.domain.periodic = {true, true, false};
+  fs::addMaterial(sim, "water", "fluid", "{density: 1000, sound_speed: 10, viscosity: 1.0e-3}");
+  FluidModule* fluid = fs::addFluidModule(sim, section);
+  fs::addLattice(sim, {0, 0}, {12 * dx, 12 * dx}, 0);
+  fluid->initialise(sim);
+  return fluid;
+}
+
 // XSPH (Eq. 2.66, fluid key `xsph`): the field exists only when epsilon > 0; in a periodic fluid
 // at rest with one particle moving at u, that particle's position rate correction is
 // eps sum_b m_b / rho_ab (v_b - v_a) W_ab = -eps u sum_{b != a} V_b W_ab exactly, a neighbour b
@@ -273,17 +289,9 @@ TEST(FluidXsph, CorrectionMatchesClosedSumAndOnlyWhenAsked) {
   for (double eps : {0.0, 0.5}) {
     const double dx = 1e-3;
     Simulation sim{2};
-    sim.spacing = dx;
-    sim.kernel = Kernel(KernelType::QuinticSpline, 2, dx);
-    sim.domain.lo = {0, 0, 0};
-    sim.domain.hi = {12 * dx, 12 * dx, 0};
-    sim.domain.periodic = {true, true, false};
-    fs::addMaterial(sim, "water", "fluid", "{density: 1000, sound_speed: 10, viscosity: 1.0e-3}");
     char buf[64];
     std::snprintf(buf, sizeof buf, "{xsph: %g}", eps);
-    FluidModule* fluid = fs::addFluidModule(sim, buf);
-    fs::addLattice(sim, {0, 0}, {12 * dx, 12 * dx}, 0);
-    fluid->initialise(sim);
+    FluidModule* fluid = periodicWaterLattice(sim, buf);
     EXPECT_EQ(fluid->positionCorrection.valid(), eps > 0.0);
     EXPECT_EQ(sim.store.has("fluid_position_correction"), eps > 0.0);
     if (eps == 0.0) continue;
@@ -378,17 +386,9 @@ TEST(FluidShifting, MovesADisplacedParticleBackAndNothingOnALattice) {
   for (double A : {0.0, 2.0}) {
     const double dx = 1e-3, U = 0.1;
     Simulation sim{2};
-    sim.spacing = dx;
-    sim.kernel = Kernel(KernelType::QuinticSpline, 2, dx);
-    sim.domain.lo = {0, 0, 0};
-    sim.domain.hi = {12 * dx, 12 * dx, 0};
-    sim.domain.periodic = {true, true, false};
-    fs::addMaterial(sim, "water", "fluid", "{density: 1000, sound_speed: 10, viscosity: 1.0e-3}");
     char buf[64];
     std::snprintf(buf, sizeof buf, "{shifting: %g}", A);
-    FluidModule* fluid = fs::addFluidModule(sim, buf);
-    fs::addLattice(sim, {0, 0}, {12 * dx, 12 * dx}, 0);
-    fluid->initialise(sim);
+    FluidModule* fluid = periodicWaterLattice(sim, buf);
     EXPECT_EQ(fluid->positionCorrection.valid(), A > 0.0);
     if (A == 0.0) continue;
     auto& st = sim.store;
