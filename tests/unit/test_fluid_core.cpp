@@ -101,6 +101,18 @@ TEST(FluidConfig, BadInputNamesKeyAndValue) {
   Simulation sim6(2);
   fs::addMaterial(sim6, "water", "fluid", "{density: 1000, sound_speed: 5, viscosity: 1.0e-3}");
   EXPECT_THROW(fs::addFluidModule(sim6, "{wetting_scale: 0}"), InputError);
+  for (const char* bad : {"{xsph: 1.5}", "{shifting: -1}"}) {  // out of range: key and value named
+    Simulation s(2);
+    fs::addMaterial(s, "water", "fluid", "{density: 1000, sound_speed: 5, viscosity: 1.0e-3}");
+    try {
+      fs::addFluidModule(s, bad);
+      ADD_FAILURE() << "expected InputError for " << bad;
+    } catch (const InputError& e) {
+      const std::string w = e.what(), key = std::string(bad).substr(1, std::string(bad).find(':') - 1);
+      EXPECT_NE(w.find(key), std::string::npos) << w;
+      EXPECT_NE(w.find(bad[1] == 'x' ? "1.5" : "-1"), std::string::npos) << w;
+    }
+  }
 }
 
 TEST(FluidCore, PhasesMotionAndColours) {
@@ -338,7 +350,7 @@ TEST(FluidXsph, CorrectionMatchesClosedSumAndOnlyWhenAsked) {
 // column of particles, so a gas bubble in water starts at the water's pressure: in a column that
 // misses the bubble p = p_b + rho_w g (L - z); below the bubble the column is lighter by
 // (rho_w - rho_g) g n_gas dx (n_gas gas particles above in that column, trapezoid rule); each particle's density
-// is its own EOS inverted at that pressure.
+// is its own EOS inverted at that pressure, and its mass is scaled so that m / rho stays dx^2.
 TEST(FluidCore, HydrostaticColumnsThroughABubble) {
   const double dx = 1e-4, Wd = 20 * dx, H = 30 * dx, R = 5 * dx, g = 9.81, pb = 50.0;
   Simulation sim{2};
@@ -371,6 +383,8 @@ TEST(FluidCore, HydrostaticColumnsThroughABubble) {
     ASSERT_NEAR(p[i], ref, 1e-9 * ref) << "particle at " << x[2 * i] << ", " << x[2 * i + 1];
     const double rho0 = mt[i] == water ? 1000.0 : 1.0, c = mt[i] == water ? 5.0 : 50.0;
     ASSERT_NEAR(rho[i], rho0 + (ref - pb) / (c * c), 1e-9 * rho0);
+    // compressed in place: the particle keeps its lattice cell as volume, its mass follows
+    ASSERT_NEAR(st.data(st.mass())[i] / rho[i], dx * dx, 1e-12 * dx * dx);
     if (mt[i] == water && gasAbove == 0) ++checkedFree;
     if (mt[i] == water && gasAbove > 0) ++checkedBelow;
   }
