@@ -2,7 +2,7 @@
 //
 //   poresph run SCENE [--out DIR] [--threads N] [--force] [--restart CHECKPOINT]
 //   poresph info SCENE [--threads N]
-//   poresph image FILE --shape NX NY NZ [--pore-label L]
+//   poresph image FILE --shape NX NY NZ [--pore-label L] [--connectivity 6|18|26]
 //   poresph --help | --version
 //
 // Exit codes: 0 done, 2 bad input (scene, options, output directory), 3 numerical blow-up,
@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <sstream>
 
 #include "libcore/runner.hpp"
@@ -64,15 +65,46 @@ int commandInfo(const std::string& scenePath) {
   return 0;
 }
 
+/// A whole number in [lo, hi] from an option's text; the message names the option, the rule and
+/// the value as given (CLI11's PositiveNumber check printed its bound as a 309-digit number).
+long long wholeNumberOption(const std::string& option, const std::string& text, long long lo,
+                            long long hi, const std::string& rule) {
+  std::size_t used = 0;
+  long long value = 0;
+  try {
+    value = std::stoll(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != text.size() || value < lo || value > hi)
+    throw InputError(option + ": " + rule + ", got " + (text.empty() ? "an empty value" : text));
+  return value;
+}
+
 /// Pore statistics of a segmented raw image (docs/voxel-images.md).
-int commandImage(const std::string& path, const std::vector<int>& shape, int poreLabel) {
-  const VoxelImage img = VoxelImage::readRaw(path, shape[0], shape[1], shape[2]);
-  const PoreStatistics s = poreStatistics(img, static_cast<std::uint8_t>(poreLabel));
+int commandImage(const std::string& path, const std::vector<std::string>& shapeText,
+                 const std::string& poreLabelText, const std::string& connectivityText) {
+  int shape[3];
+  for (int a = 0; a < 3; ++a)
+    shape[a] = static_cast<int>(wholeNumberOption(
+        "--shape", shapeText[static_cast<size_t>(a)], 1, std::numeric_limits<int>::max(),
+        "every size must be a positive whole number of at most " +
+            std::to_string(std::numeric_limits<int>::max()) + " voxels"));
+  const int poreLabel = static_cast<int>(
+      wholeNumberOption("--pore-label", poreLabelText, 0, 255, "must be a whole number from 0 to 255"));
+  const int connectivity = static_cast<int>(
+      wholeNumberOption("--connectivity", connectivityText, 6, 26, "must be 6, 18 or 26"));
+  if (connectivity != 6 && connectivity != 18 && connectivity != 26)
+    throw InputError("--connectivity: must be 6, 18 or 26, got " + connectivityText);
+  // The labels' bytes are part of the memory check made before the image is allocated.
+  const VoxelImage img =
+      VoxelImage::readRaw(path, shape[0], shape[1], shape[2], kLabelBytesPerVoxel);
+  const PoreStatistics s = poreStatistics(img, static_cast<std::uint8_t>(poreLabel), connectivity);
   std::cout << "image:        " << path << " (" << shape[0] << " x " << shape[1] << " x "
             << shape[2] << " voxels, pore label " << poreLabel << ")\n"
             << "pore voxels:  " << s.poreVoxels << " of " << s.voxels << "\n"
             << "porosity:     " << s.porosity << "\n"
-            << "clusters:     " << s.clusters << " (6-connected)\n"
+            << "clusters:     " << s.clusters << " (" << s.connectivity << "-connected)\n"
             << "largest:      " << s.largestCluster << " voxels, " << s.largestFraction
             << " of the pore space, percolates along"
             << (s.largestPercolates[0] ? " x" : "") << (s.largestPercolates[1] ? " y" : "")
@@ -158,15 +190,15 @@ int main(int argc, char** argv) {
   info->add_option("scene", scenePath, "Scene file (YAML)")->required();
   info->add_option("--threads,-t", threads, "OpenMP threads")->check(CLI::PositiveNumber);
 
-  std::string imagePath;
-  std::vector<int> shape;
-  int poreLabel = 0;
+  // Image values are taken as text and checked in commandImage, whose messages name the option.
+  std::string imagePath, poreLabel = "0", connectivity = "6";
+  std::vector<std::string> shape;
   CLI::App* image = app.add_subcommand("image", "Pore statistics of a segmented raw 8-bit image");
   image->add_option("file", imagePath, "Raw image (unsigned 8-bit, x fastest)")->required();
-  image->add_option("--shape", shape, "Voxels along x, y, z")->required()->expected(3)
-      ->check(CLI::PositiveNumber);
-  image->add_option("--pore-label", poreLabel, "Voxel value of the pore space (default 0)")
-      ->check(CLI::Range(0, 255));
+  image->add_option("--shape", shape, "Voxels along x, y, z")->required()->expected(3);
+  image->add_option("--pore-label", poreLabel, "Voxel value of the pore space (default 0)");
+  image->add_option("--connectivity", connectivity,
+                    "Pore voxels touching by faces (6, default), also edges (18) or corners (26)");
 
   try {
     app.parse(argc, argv);
@@ -178,7 +210,7 @@ int main(int argc, char** argv) {
   try {
     setThreads(threads);
     if (info->parsed()) return commandInfo(scenePath);
-    if (image->parsed()) return commandImage(imagePath, shape, poreLabel);
+    if (image->parsed()) return commandImage(imagePath, shape, poreLabel, connectivity);
     if (run->parsed()) return commandRun(scenePath, outDir, force, restart);
   } catch (const InputError& e) {
     std::cerr << "poresph: error: " << e.what() << "\n";
