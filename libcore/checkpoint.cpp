@@ -1,7 +1,8 @@
 // HDF5 checkpoints (C API). Layout:
 //   /                 attributes: format ("poresph-checkpoint-1"), time, dt (double), step,
 //                     particle_count (int64), dimension (int32), domain_lo, domain_hi
-//                     (double[3]), domain_periodic (int32[3])
+//                     (double[3]), domain_periodic (int32[3]), scene_signature (string: a
+//                     hash of the scene's physics and geometry, compared on restart)
 //   /fields/<name>    one dataset per kFieldCheckpoint field: [particle_count, components],
 //                     IEEE float64 little endian or int32 little endian
 #include "libcore/checkpoint.hpp"
@@ -80,7 +81,8 @@ herr_t collectName(hid_t, const char* name, const H5L_info_t*, void* out) {
 
 }  // namespace
 
-void writeCheckpoint(const Simulation& sim, const std::string& path) {
+void writeCheckpoint(const Simulation& sim, const std::string& path,
+                     const std::string& signature) {
   QuietHdf5 quiet;
   const ParticleStore& s = sim.store;
   Handle file(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
@@ -90,6 +92,11 @@ void writeCheckpoint(const Simulation& sim, const std::string& path) {
     Handle strType(H5Tcopy(H5T_C_S1), H5Tclose);
     H5Tset_size(strType, std::strlen(kFormat));
     writeAttr(file, "format", strType, strType, kFormat, 1, path);
+  }
+  if (!signature.empty()) {
+    Handle strType(H5Tcopy(H5T_C_S1), H5Tclose);
+    H5Tset_size(strType, signature.size());
+    writeAttr(file, "scene_signature", strType, strType, signature.data(), 1, path);
   }
   const std::int64_t step = sim.step, count = s.realCount();
   const std::int32_t dim = sim.dimension();
@@ -129,7 +136,8 @@ void writeCheckpoint(const Simulation& sim, const std::string& path) {
   if (H5Fflush(file, H5F_SCOPE_GLOBAL) < 0) fail(path, "cannot flush the file");
 }
 
-void readCheckpoint(Simulation& sim, const std::string& path) {
+void readCheckpoint(Simulation& sim, const std::string& path,
+                    const std::string& expectedSignature) {
   QuietHdf5 quiet;
   ParticleStore& s = sim.store;
   if (H5Fis_hdf5(path.c_str()) <= 0)
@@ -154,6 +162,26 @@ void readCheckpoint(Simulation& sim, const std::string& path) {
   readAttr(file, "domain_hi", H5T_NATIVE_DOUBLE, hi.data(), 3, path);
   readAttr(file, "domain_periodic", H5T_NATIVE_INT32, periodic, 3, path);
   if (count < 0) fail(path, "negative particle_count");
+  // A checkpoint of another scene: other particle count, or other physics and geometry.
+  if (!expectedSignature.empty() && count != s.realCount())
+    fail(path, "holds " + std::to_string(count) + " particles but the scene builds " +
+                   std::to_string(s.realCount()) +
+                   ": it was written by another scene (restart with the scene that wrote it)");
+  if (!expectedSignature.empty() && H5Aexists(file, "scene_signature") > 0) {
+    Handle attr(H5Aopen(file, "scene_signature", H5P_DEFAULT), H5Aclose);
+    Handle type(H5Aget_type(attr), H5Tclose);
+    const size_t size = H5Tget_size(type);
+    std::string got(size, '\0');
+    Handle memType(H5Tcopy(H5T_C_S1), H5Tclose);
+    H5Tset_size(memType, size);
+    if (size == 0 || H5Aread(attr, memType, got.data()) < 0)
+      fail(path, "cannot read attribute 'scene_signature'");
+    if (got != expectedSignature)
+      fail(path, "was written by a scene with other physics or geometry (scene signature " + got +
+                     ", this scene " + expectedSignature +
+                     "): restart with the scene that wrote it; only end_time, max_steps, "
+                     "time_step, output and health may change between the runs");
+  }
 
   if (H5Lexists(file, "fields", H5P_DEFAULT) <= 0) fail(path, "group 'fields' is missing");
   Handle group(H5Gopen2(file, "fields", H5P_DEFAULT), H5Gclose);

@@ -20,6 +20,7 @@
 #include <utility>
 #include <vector>
 
+#include "libcore/health.hpp"
 #include "libcore/parameters.hpp"
 
 namespace poresph {
@@ -56,6 +57,16 @@ class Module {
   /// Largest stable time step of this module (CFL conditions, Eqs. 2.49-2.50).
   virtual double timeStepLimit(const Simulation& sim) const {
     return std::numeric_limits<double>::infinity();
+  }
+  /// Health checks of this module's particles (libcore/health.hpp, docs/reliability.md): appends
+  /// one issue per check crossed (the worst particle), after each step. Cheap reductions only.
+  virtual void checkHealth(const Simulation& sim, const HealthLimits& limits,
+                           std::vector<HealthIssue>& issues) const {}
+  /// Adds this module's energies (stored, work put in, dissipated, untracked scale) for the
+  /// energy-growth check; kinetic energy is the core's. Returns false when the module cannot
+  /// account for the energy it puts in (the default): the check is then off for the scene.
+  virtual bool energyAccount(const Simulation& sim, EnergyAccount& account) const {
+    return false;
   }
   /// Global quantities for timeseries.csv (name, value), e.g. energies.
   virtual void diagnostics(const Simulation& sim,

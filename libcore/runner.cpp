@@ -1,6 +1,8 @@
 #include "libcore/runner.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <csignal>
 #include <cstring>
@@ -10,6 +12,7 @@
 #include <vector>
 
 #include "libcore/checkpoint.hpp"
+#include "libcore/health.hpp"
 #include "libcore/integrator.hpp"
 #include "libcore/output.hpp"
 
@@ -123,7 +126,30 @@ std::string duration(double s) {
   return o.str();
 }
 
+/// FNV-1a 64 of the text, as 16 hex digits (stable across builds and machines).
+std::string fnv1a(const std::string& text) {
+  std::uint64_t h = 1469598103934665603ull;
+  for (unsigned char c : text) {
+    h ^= c;
+    h *= 1099511628211ull;
+  }
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
+  return buf;
+}
+
 }  // namespace
+
+std::string sceneSignature(const Scene& scene) {
+  // What must not change between a run and its restart: the physics and the geometry. The
+  // clock (end_time, max_steps, time_step), the output cadence and the health limits may.
+  YAML::Node physics = YAML::Clone(scene.resolved);
+  for (const char* key : {"end_time", "max_steps", "time_step", "output", "health"})
+    physics.remove(key);
+  YAML::Emitter e;
+  e << physics;
+  return fnv1a(e.c_str());
+}
 
 void requestStop(int signal) { g_stopSignal = signal == 0 ? SIGTERM : signal; }
 
@@ -134,13 +160,38 @@ RunResult runScene(Scene& scene, const RunOptions& options) {
   std::ostream* log = options.progress;
 
   std::unique_ptr<Integrator> integrator = makeIntegrator(scene.integrator);
+  const std::string signature = sceneSignature(scene);
   if (!options.restartFrom.empty()) {
-    readCheckpoint(sim, options.restartFrom);
+    readCheckpoint(sim, options.restartFrom, signature);
+    if (scene.finished())
+      throw InputError(options.restartFrom + ": the checkpoint is at time " +
+                       std::to_string(sim.time) + " s, step " + std::to_string(sim.step) +
+                       ", which is not before the end of " + scene.file + " (end_time " +
+                       std::to_string(scene.endTime) +
+                       " s, max_steps " + std::to_string(scene.maxSteps) +
+                       "): raise end_time (or max_steps) in the scene to continue the run");
+    // The derived fields (pressure, stress, colour...) are not in the checkpoint: evaluate them
+    // for the restored state so that the first row and snapshot equal the interrupted run's.
+    sim.evaluateRates();
     integrator->invalidate();
     if (log)
       *log << "poresph: restarted from " << options.restartFrom << " at step " << sim.step
            << ", time " << sim.time << " s\n";
   }
+  HealthLimits limits = scene.health;
+  if (options.keepGoing) limits.keepGoing = true;
+  HealthMonitor health(limits);
+  health.start(sim, scene.timeStep.adaptive ? scene.initialStableTimeStep : 0.0);
+  {
+    // A state that fails a check before the first step is bad input, not a blow-up.
+    const auto issues = health.check(sim);
+    if (!issues.empty() && !limits.keepGoing)
+      throw InputError((options.restartFrom.empty() ? scene.file : options.restartFrom) +
+                       ": the initial state fails a " + HealthMonitor::describe(sim, issues[0]) +
+                       " (the scene key health." + issues[0].check +
+                       " sets the bound; docs/reliability.md)");
+  }
+  std::vector<std::string> warned;  // checks already reported with keep_going
   OutputWriter writer(options.outDir);
   const std::string checkpointPath = options.outDir + "/checkpoint.h5";
 
@@ -180,18 +231,26 @@ RunResult runScene(Scene& scene, const RunOptions& options) {
       const double dt = scene.nextTimeStep();
       integrator->step(sim, dt);
       sim.checkFinite();
+      for (const HealthIssue& issue : health.check(sim)) {
+        if (!limits.keepGoing) throw NumericalError(HealthMonitor::describe(sim, issue));
+        if (std::find(warned.begin(), warned.end(), issue.check) != warned.end()) continue;
+        warned.push_back(issue.check);
+        if (log)
+          *log << "\nwarning: " << HealthMonitor::describe(sim, issue)
+               << " (keep_going: reported once per check)\n";
+      }
     } catch (const NumericalError& e) {
       result.status = RunStatus::Failed;
       result.message = e.what();
       const bool restored = lastGood.restore(sim);
       if (log)
         *log << "\nporesph: numerical failure: " << e.what() << "\n"
-             << (restored ? "poresph: writing the last good state (step " +
+             << (restored ? "poresph: writing the last state that passed every check (step " +
                                 std::to_string(sim.step) + ", time " + std::to_string(sim.time) +
                                 " s)\n"
                           : "poresph: the last good state could not be restored (particle "
                             "count changed); writing the state as it is\n");
-      writeCheckpoint(sim, checkpointPath);
+      writeCheckpoint(sim, checkpointPath, signature);
       result.checkpoint = checkpointPath;
       if (lastOutputStep != sim.step || !restored) {
         result.lastSnapshot = writer.writeSnapshot(sim);
@@ -227,12 +286,13 @@ RunResult runScene(Scene& scene, const RunOptions& options) {
 
   if (result.status != RunStatus::Failed) {
     if (lastOutputStep != sim.step) writeOutput();
-    writeCheckpoint(sim, checkpointPath);
+    writeCheckpoint(sim, checkpointPath, signature);
     result.checkpoint = checkpointPath;
     if (log && result.status == RunStatus::Interrupted)
       *log << "\nporesph: stopped by signal " << result.signal << " after step " << sim.step
            << " (time " << sim.time << " s); checkpoint " << checkpointPath
-           << " (resume with --restart " << checkpointPath << ")\n";
+           << "\nporesph: resume with: poresph run " << scene.file << " --restart "
+           << checkpointPath << "\n";
   }
   result.steps = sim.step - startStep;
   result.time = sim.time;

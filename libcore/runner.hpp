@@ -2,10 +2,12 @@
 // The time loop of a run (what `poresph run` calls).
 //
 // Each step: dt (fixed, or cfl x the stable limit, never past end_time: Scene::nextTimeStep),
-// one integrator step (libcore/integrator.hpp), sim.checkFinite(), output at the scene's cadence
+// one integrator step (libcore/integrator.hpp), sim.checkFinite(), the health checks
+// (libcore/health.hpp: density, Mach, dt floor, domain, energy, J), output at the scene's cadence
 // (snapshot + timeseries row), a progress line at most every `progressInterval` seconds.
-// Stops at end_time (or max_steps), on a NumericalError (the state before the failed step is
-// restored, then written as a checkpoint and a snapshot), or when SIGINT/SIGTERM arrive (the
+// Stops at end_time (or max_steps), on a NumericalError or a health check crossed (the state
+// before the failed step, the last one that passed every check, is restored, then written as a
+// checkpoint and a snapshot), or when SIGINT/SIGTERM arrive (the
 // step in progress is finished, then a checkpoint is written). A second signal kills at once.
 //
 // The loop does not allocate beyond what the store and neighbour lists need: the copy of the
@@ -24,6 +26,7 @@ struct RunOptions {
   double progressInterval = 1.0;      ///< seconds of wall time between progress lines
   bool handleSignals = true;          ///< install SIGINT/SIGTERM handlers for the run
   std::string restartFrom;            ///< checkpoint to resume from ("" : start at t = 0)
+  bool keepGoing = false;             ///< health checks warn instead of stopping the run
 };
 
 enum class RunStatus { Finished, Interrupted, Failed };
@@ -43,6 +46,10 @@ struct RunResult {
 /// Runs `scene` (loaded with initialise = true) to its end. Throws InputError for bad input (an
 /// unknown integrator, an unwritable output directory, a checkpoint that does not match).
 RunResult runScene(Scene& scene, const RunOptions& options);
+
+/// A hash of the scene's physics and geometry (the resolved scene without end_time, max_steps,
+/// time_step, output, health): written into checkpoints and compared on restart.
+std::string sceneSignature(const Scene& scene);
 
 /// Asks a running runScene() to stop after the step in progress (what the signal handlers do;
 /// also usable from tests). `signal` is reported in RunResult::signal.

@@ -719,9 +719,114 @@ void FluidModule::diagnostics(const Simulation& sim,
     vmax2 = std::max(vmax2, v2);
     ek += 0.5 * m[i] * v2;
   }
-  columns.emplace_back("fluid_max_density_variation", maxVariation_);
+  // From the density field (not the last EOS evaluation), so that the row of a restarted run
+  // equals the row the interrupted run wrote at that time.
+  columns.emplace_back("fluid_max_density_variation", std::max(0.0, largestDensityVariation(sim).value));
   columns.emplace_back("fluid_max_speed", std::sqrt(vmax2));
   columns.emplace_back("fluid_kinetic_energy", ek);
+}
+
+MaxAt FluidModule::largestDensityVariation(const Simulation& sim) const {
+  const auto& st = sim.store;
+  const Index n = st.realCount();
+  const double* rho = st.data(st.density());
+  const std::int32_t* ph = st.data(st.phase());
+  const std::int32_t* mt = st.data(st.material());
+  const MaterialData* md = mat_.data();
+  const int nm = static_cast<int>(mat_.size());
+  MaxAt worst;
+#pragma omp parallel for schedule(static) reduction(maxAt : worst)
+  for (Index i = 0; i < n; ++i) {
+    if (ph[i] != kPhaseFluid || mt[i] < 0 || mt[i] >= nm || !md[mt[i]].fluid) continue;
+    const double var = std::abs(rho[i] - md[mt[i]].rho0) / md[mt[i]].rho0;
+    if (var > worst.value || (var == worst.value && i < worst.particle)) worst = MaxAt{var, i};
+  }
+  return worst;
+}
+
+void FluidModule::checkHealth(const Simulation& sim, const HealthLimits& limits,
+                              std::vector<HealthIssue>& issues) const {
+  const MaxAt var = largestDensityVariation(sim);
+  if (var.particle >= 0 && var.value > limits.densityVariation)
+    issues.push_back({"density_variation", "density", var.particle, var.value,
+                      limits.densityVariation,
+                      "|rho - rho0| / rho0 of a fluid particle: the flow is no longer weakly "
+                      "compressible; raise the sound speed, lower the time step or check the "
+                      "set-up"});
+  // Mach number |v| / c0 of each fluid particle (the weakly compressible model assumes << 1).
+  const auto& st = sim.store;
+  const Index n = st.realCount();
+  const int d = dim_;
+  const double* v = st.data(st.velocity());
+  const std::int32_t* ph = st.data(st.phase());
+  const std::int32_t* mt = st.data(st.material());
+  const MaterialData* md = mat_.data();
+  const int nm = static_cast<int>(mat_.size());
+  MaxAt mach;
+#pragma omp parallel for schedule(static) reduction(maxAt : mach)
+  for (Index i = 0; i < n; ++i) {
+    if (ph[i] != kPhaseFluid || mt[i] < 0 || mt[i] >= nm || !md[mt[i]].fluid) continue;
+    double v2 = 0.0;
+    for (int a = 0; a < d; ++a) v2 += v[i * d + a] * v[i * d + a];
+    const double ma = std::sqrt(v2) / md[mt[i]].soundSpeed;
+    if (ma > mach.value || (ma == mach.value && i < mach.particle)) mach = MaxAt{ma, i};
+  }
+  if (mach.particle >= 0 && !(mach.value <= limits.maxMach))
+    issues.push_back({"max_mach", "velocity", mach.particle, mach.value, limits.maxMach,
+                      "|v| / sound_speed of a fluid particle: the flow is faster than the weakly "
+                      "compressible model allows; raise the sound speed or look for a blow-up"});
+}
+
+bool FluidModule::energyAccount(const Simulation& sim, EnergyAccount& account) const {
+  const auto& st = sim.store;
+  const Index n = st.realCount();
+  const int d = dim_;
+  const double* x = st.data(st.position());
+  const double* m = st.data(st.mass());
+  const std::int32_t* ph = st.data(st.phase());
+  const std::int32_t* mt = st.data(st.material());
+  const MaterialData* md = mat_.data();
+  const int nm = static_cast<int>(mat_.size());
+  double g[3] = {0, 0, 0}, gNorm = 0.0, fMax = 0.0;
+  for (int a = 0; a < d; ++a) {
+    g[a] = gravity_[static_cast<size_t>(a)];
+    gNorm += g[a] * g[a];
+  }
+  gNorm = std::sqrt(gNorm);
+  for (const auto& f : bodyForces_) {
+    double f2 = 0.0;
+    for (double c : f.acceleration) f2 += c * c;
+    fMax = std::max(fMax, std::sqrt(f2));
+  }
+  double potential = 0.0, mass = 0.0, compression = 0.0, lo = 1e300, hi = -1e300;
+#pragma omp parallel for schedule(static) reduction(+ : potential, mass, compression) \
+    reduction(min : lo) reduction(max : hi)
+  for (Index i = 0; i < n; ++i) {
+    if (ph[i] != kPhaseFluid || mt[i] < 0 || mt[i] >= nm || !md[mt[i]].fluid) continue;
+    double gx = 0.0;
+    for (int a = 0; a < d; ++a) gx += g[a] * x[i * d + a];
+    potential -= m[i] * gx;  // E_p = -m g.x
+    mass += m[i];
+    // Kinetic energy of a flow at Mach 0.1: the scale of the compression energy the weakly
+    // compressible fluid exchanges without accounting for it.
+    const double c = 0.1 * md[mt[i]].soundSpeed;
+    compression += 0.5 * m[i] * c * c;
+    const double along = gNorm > 0.0 ? gx / gNorm : 0.0;
+    lo = std::min(lo, along);
+    hi = std::max(hi, along);
+  }
+  account.stored += potential;
+  if (gNorm > 0.0 && hi > lo) account.storedRange += mass * gNorm * (hi - lo);
+  // Body forces (e.g. a drainage pressure drop) do work that is not accounted: their scale is
+  // m |f| times the domain diagonal.
+  double diagonal = 0.0;
+  for (int a = 0; a < d; ++a) diagonal += sim.domain.length(a) * sim.domain.length(a);
+  account.untrackedScale += compression + mass * fMax * std::sqrt(diagonal);
+  // Surface energy: gamma times the interface, at most the perimeter of every fluid particle.
+  if (gamma_ > 0.0 && st.realCount() > 0)
+    account.untrackedScale += gamma_ * static_cast<double>(n) * 2.0 * d *
+                              std::pow(sim.spacing, d - 1);
+  return true;
 }
 
 PORESPH_REGISTER_MODULE(FluidModule, "fluid")

@@ -63,6 +63,11 @@ class FluidModule : public Module {
   double timeStepLimit(const Simulation& sim) const override;
   void diagnostics(const Simulation& sim,
                    std::vector<std::pair<std::string, double>>& columns) const override;
+  /// Density variation and Mach number of the fluid particles (docs/reliability.md).
+  void checkHealth(const Simulation& sim, const HealthLimits& limits,
+                   std::vector<HealthIssue>& issues) const override;
+  /// Gravity potential of the moving fluid; compression and surface energy as untracked scale.
+  bool energyAccount(const Simulation& sim, EnergyAccount& account) const override;
 
   /// Pressure from the EOS of material data m (Eq. 1.4 or Tait).
   static double pressureOf(const MaterialData& m, double rho);
@@ -77,6 +82,8 @@ class FluidModule : public Module {
   bool surfaceTensionActive() const { return gamma_ > 0.0; }
   /// Largest |rho - rho0| / rho0 over the fluid particles at the last EOS evaluation.
   double maxDensityVariation() const { return maxVariation_; }
+  /// Largest |rho - rho0| / rho0 over the fluid particles now, and where (from the density field).
+  MaxAt largestDensityVariation(const Simulation& sim) const;
   /// Number of EOS evaluations at which the density bound was exceeded.
   long long densityBoundExceeded() const { return boundExceeded_; }
   double densityBound() const { return densityBound_; }

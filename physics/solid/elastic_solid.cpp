@@ -1106,6 +1106,73 @@ void ElasticSolidModule::diagnostics(const Simulation& sim,
   columns.emplace_back("solid_energy_balance", ke + el - w[0] - w[1] + w[2]);
 }
 
+void ElasticSolidModule::checkHealth(const Simulation& sim, const HealthLimits& limits,
+                                     std::vector<HealthIssue>& issues) const {
+  const ParticleStore& s = sim.store;
+  const Index n = s.realCount();
+  const int d = sim.dimension();
+  const std::int32_t* mat = s.data(s.material());
+  const double* v = s.data(s.velocity());
+  // |v| / c with c the elastic wave speed of Eq. 2.50: a solid particle faster than a fraction
+  // of its wave speed is a blow-up (or an impact the model cannot represent).
+  MaxAt mach;
+#pragma omp parallel for schedule(static) reduction(maxAt : mach)
+  for (Index i = 0; i < n; ++i) {
+    const int k = slotOf(mat[i]);
+    if (k < 0) continue;
+    double v2 = 0.0;
+    for (int c = 0; c < d; ++c) v2 += v[i * d + c] * v[i * d + c];
+    const double ma = std::sqrt(v2) / mats_[static_cast<size_t>(k)].waveSpeed;
+    if (ma > mach.value || (ma == mach.value && i < mach.particle)) mach = MaxAt{ma, i};
+  }
+  if (mach.particle >= 0 && !(mach.value <= limits.maxMach))
+    issues.push_back({"max_mach", "velocity", mach.particle, mach.value, limits.maxMach,
+                      "|v| / elastic wave speed of a solid particle: the solid has blown up"});
+  if (formulation_ != Formulation::TotalLagrangian || !defGrad_.valid()) return;
+  // J = det F <= 0: the particle is inverted (rho = rho0 / J of Eq. 2.79 is meaningless).
+  const double* F = s.data(defGrad_);
+  MaxAt inverted;
+#pragma omp parallel for schedule(static) reduction(maxAt : inverted)
+  for (Index i = 0; i < n; ++i) {
+    if (slotOf(mat[i]) < 0) continue;
+    const double* f = F + i * d * d;
+    double J = f[0];
+    if (d == 2) J = f[0] * f[3] - f[1] * f[2];
+    if (d == 3)
+      J = f[0] * (f[4] * f[8] - f[5] * f[7]) - f[1] * (f[3] * f[8] - f[5] * f[6]) +
+          f[2] * (f[3] * f[7] - f[4] * f[6]);
+    if (-J > inverted.value || (-J == inverted.value && i < inverted.particle))
+      inverted = MaxAt{-J, i};
+  }
+  if (inverted.particle >= 0 && inverted.value >= 0.0)
+    issues.push_back({"jacobian", "deformation_gradient", inverted.particle, -inverted.value, 0.0,
+                      "J = det F <= 0: the solid particle is inverted"});
+}
+
+bool ElasticSolidModule::energyAccount(const Simulation& sim, EnergyAccount& account) const {
+  const double el = elasticEnergy(sim);
+  const auto w = work(sim);
+  account.stored += el;
+  account.storedRange += el;
+  account.workIn += w[0] + w[1];
+  account.dissipated += w[2];
+  // A vibration at 1e-3 of the wave speed: growth below it is round-off, not a fault.
+  const ParticleStore& s = sim.store;
+  const Index n = s.realCount();
+  const std::int32_t* mat = s.data(s.material());
+  const double* m = s.data(s.mass());
+  double scale = 0.0;
+#pragma omp parallel for schedule(static) reduction(+ : scale)
+  for (Index i = 0; i < n; ++i) {
+    const int k = slotOf(mat[i]);
+    if (k < 0) continue;
+    const double c = 1e-3 * mats_[static_cast<size_t>(k)].waveSpeed;
+    scale += 0.5 * m[i] * c * c;
+  }
+  account.untrackedScale += scale;
+  return true;
+}
+
 }  // namespace poresph::solid
 
 using poresph::solid::ElasticSolidModule;

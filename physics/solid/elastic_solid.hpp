@@ -100,6 +100,11 @@ class ElasticSolidModule : public Module {
   double timeStepLimit(const Simulation& sim) const override;
   void diagnostics(const Simulation& sim,
                    std::vector<std::pair<std::string, double>>& columns) const override;
+  /// Solid speed against the wave speed (Eq. 2.50) and J = det F > 0 (TL); docs/reliability.md.
+  void checkHealth(const Simulation& sim, const HealthLimits& limits,
+                   std::vector<HealthIssue>& issues) const override;
+  /// Elastic energy (stored), boundary and traction work (in), dissipation.
+  bool energyAccount(const Simulation& sim, EnergyAccount& account) const override;
 
   // ---- introspection (tests, docs) ----
   Formulation formulation() const { return formulation_; }

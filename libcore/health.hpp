@@ -1,0 +1,101 @@
+#pragma once
+// Health checks of a run (docs/reliability.md): cheap per-step tests that stop a run whose state
+// is no longer physical although every number is still finite (a blow-up that stays finite, a
+// time step that collapses, particles flying off), before it becomes a result.
+//
+// The checks, each with its scene key under `health:` and its default:
+//   density_variation  0.1    |rho - rho0| / rho0 of a fluid particle (weakly compressible
+//                             assumption, thesis Sec. 1.3.1: c0 is chosen for ~1 %); and any
+//                             density <= 0 (every phase)
+//   max_mach           0.5    |v| / c of a particle, c the sound speed of its fluid or the
+//                             elastic wave speed of its solid (Eq. 2.50)
+//   dt_floor           1e-3   adaptive dt / the stable dt of the initial state
+//   energy_growth      1.0    growth of the accounted energy (kinetic + stored + dissipated -
+//                             work put in) over its start value, in units of the energy scale
+//                             of the scene (EnergyAccount, below)
+//   domain_margin      0.25   a particle further outside the box of the domain and the initial
+//                             particles than this fraction of the box size (non-periodic axes)
+//   J <= 0                    (no key) an inverted solid particle (deformation gradient)
+// `keep_going: true` (or `poresph run --keep-going`) turns the stops into warnings, printed once
+// per check.
+#include <array>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "libcore/types.hpp"
+
+namespace poresph {
+
+class ParameterSet;
+class Simulation;
+
+struct HealthLimits {
+  double densityVariation = 0.1;
+  double maxMach = 0.5;
+  double dtFloor = 1e-3;
+  double energyGrowth = 1.0;
+  double domainMargin = 0.25;
+  bool keepGoing = false;
+};
+
+/// Reads the `health:` section (nullptr: every default); unknown keys are errors.
+HealthLimits readHealthLimits(const ParameterSet* section);
+
+/// One check crossed: what, where, by how much.
+struct HealthIssue {
+  std::string check;     ///< the scene key of the check (e.g. "max_mach"), or "jacobian"
+  std::string field;     ///< the field that crossed it (e.g. "velocity")
+  Index particle = -1;   ///< index in the store (-1: a global check)
+  double value = 0.0;    ///< measured value
+  double limit = 0.0;    ///< the bound it crossed
+  std::string detail;    ///< one sentence: what the value is and what to do
+};
+
+/// Energy bookkeeping a module contributes to the check `energy_growth`. Kinetic energy is the
+/// core's. `untrackedScale` is the size of the energy the module does not account for
+/// (compression of a weakly compressible fluid, surface energy, work of body forces), below
+/// which a growth is not a fault.
+struct EnergyAccount {
+  double stored = 0.0;          ///< elastic energy, gravity potential (J)
+  double workIn = 0.0;          ///< work done on the particles by imposed boundaries and loads (J)
+  double dissipated = 0.0;      ///< energy dissipated and accounted for (J)
+  double untrackedScale = 0.0;  ///< J
+  double storedRange = 0.0;     ///< largest change the stored energy can have (e.g. m g H) (J)
+  bool complete = true;         ///< every module accounted for its energy (else: no check)
+};
+
+/// Largest particle value of a per-particle measure, with its index (reduction helper for the
+/// modules' checks): the first particle of the largest value.
+struct MaxAt {
+  double value = -std::numeric_limits<double>::infinity();
+  Index particle = -1;
+};
+#pragma omp declare reduction(maxAt : MaxAt : omp_out = (omp_in.value > omp_out.value || (omp_in.value == omp_out.value && omp_in.particle < omp_out.particle)) ? omp_in : omp_out)
+
+/// The per-step monitor the run loop calls: the core checks (density <= 0, dt floor, domain,
+/// energy) and every module's Module::checkHealth.
+class HealthMonitor {
+ public:
+  HealthMonitor() = default;
+  HealthMonitor(const HealthLimits& limits) : limits_(limits) {}
+  /// Takes the reference state (initial stable step, domain box, energy at the start).
+  void start(const Simulation& sim, double initialStableTimeStep);
+  /// All checks on the current state; the issues found (empty when healthy).
+  std::vector<HealthIssue> check(const Simulation& sim);
+  const HealthLimits& limits() const { return limits_; }
+  /// "check 'max_mach' (velocity): particle 12 (id 40, material 0) ... at step s, time t s".
+  static std::string describe(const Simulation& sim, const HealthIssue& issue);
+
+ private:
+  double energyBalance(const Simulation& sim, EnergyAccount& total) const;
+  HealthLimits limits_;
+  double initialStable_ = 0.0;
+  double energy0_ = 0.0, kinetic0_ = 0.0, stored0_ = 0.0;
+  double energyScale0_ = 0.0, workIn0_ = 0.0;
+  std::array<double, 3> boxLo_{}, boxHi_{};
+  bool started_ = false;
+  bool energyChecked_ = false;
+};
+
+}  // namespace poresph
