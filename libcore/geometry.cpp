@@ -1,5 +1,6 @@
 #include "libcore/geometry.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -36,17 +37,70 @@ void Region::bounds(int dim, std::array<double, 3>& blo, std::array<double, 3>& 
   }
 }
 
-LatticeFill fillLattice(const std::vector<Region>& regions, const Domain& domain, double dx) {
-  const int dim = domain.dimension;
-  if (!(dx > 0.0) || !std::isfinite(dx))
-    throw InputError("lattice spacing must be positive and finite, got " + std::to_string(dx));
-  LatticeFill out;
-  out.dimension = dim;
-  const double tol = 1e-9 * dx;
+namespace {
 
+// Index bound of the lattice: |i| <= 2^62, so that differences of indices fit in 64 bits.
+constexpr double kMaxIndex = 4.6e18;
+// Rows along x of the bounding lattice that the counting pass will visit.
+constexpr double kMaxRows = 268435456.0;  // 2^28
+
+std::string num(double v) {
+  std::ostringstream s;
+  s.precision(6);
+  s << v;
+  return s.str();
+}
+
+[[noreturn]] void tooLarge(double dx, const std::string& what) {
+  throw LatticeTooLarge("spacing dx = " + num(dx) + " m " + what +
+                        "; the spacing is too small for the geometry");
+}
+
+struct Run {
+  long long a, b;  // sites [a, b] along x
+  int owner;       // region index
+};
+
+/// The lattice of the regions: per-axis index ranges of the sites that may hold a particle.
+struct Lattice {
+  int dim = 3;
+  double dx = 0.0, tol = 0.0;
+  std::array<double, 3> origin{0.0, 0.0, 0.0};
+  std::array<long long, 3> first{0, 0, 0}, last{0, 0, 0};
+  bool empty = true;
+  double site(int a, long long i) const {
+    return origin[static_cast<size_t>(a)] + (static_cast<double>(i) + 0.5) * dx;
+  }
+};
+
+/// ceil / floor of a lattice coordinate, refused when beyond 64-bit indices.
+long long latticeIndex(double v, bool up, double dx, int axis) {
+  const double f = up ? std::ceil(v) : std::floor(v);
+  if (!(std::fabs(f) <= kMaxIndex))
+    tooLarge(dx, std::string("puts a region bound about ") + num(std::fabs(v)) +
+                     " spacings from domain.lo along axis " + "xyz"[axis] +
+                     ", beyond 64-bit lattice indices");
+  return static_cast<long long>(f);
+}
+
+/// Index range [i0, i1] of the sites between b0 and b1 (bounds of a region) along axis a.
+void siteRange(const Lattice& lat, int a, double b0, double b1, long long& i0, long long& i1) {
+  const double l = lat.origin[static_cast<size_t>(a)];
+  i0 = latticeIndex((b0 - l) / lat.dx - 0.5 - 1e-9, true, lat.dx, a);
+  i1 = latticeIndex((b1 - l) / lat.dx - 0.5 + 1e-9, false, lat.dx, a);
+}
+
+Lattice makeLattice(const std::vector<Region>& regions, const Domain& domain, double dx) {
+  Lattice lat;
+  lat.dim = domain.dimension;
+  lat.dx = dx;
+  lat.tol = 1e-9 * dx;
+  lat.origin = domain.lo;
+  if (!(dx > 0.0) || !std::isfinite(dx))
+    throw InputError("lattice spacing must be positive and finite, got " + num(dx));
+  const int dim = lat.dim;
   // Index range of the union of the (non-subtracting) regions, per axis. Site i sits at
   // lo + (i + 1/2) dx; a bound b contains sites with i in [ceil((b_lo-lo)/dx - 1/2), floor(...)].
-  std::array<long long, 3> first{0, 0, 0}, last{0, 0, 0};
   bool any = false;
   for (const Region& r : regions) {
     if (r.subtracts()) continue;
@@ -54,26 +108,23 @@ LatticeFill fillLattice(const std::vector<Region>& regions, const Domain& domain
     r.bounds(dim, blo, bhi);
     for (int a = 0; a < dim; ++a) {
       const size_t s = static_cast<size_t>(a);
-      const double l = domain.lo[s];
-      const long long i0 = static_cast<long long>(std::ceil((blo[s] - l) / dx - 0.5 - 1e-9));
-      const long long i1 = static_cast<long long>(std::floor((bhi[s] - l) / dx - 0.5 + 1e-9));
-      if (!any) {
-        first[s] = i0;
-        last[s] = i1;
-      } else {
-        first[s] = std::min(first[s], i0);
-        last[s] = std::max(last[s], i1);
-      }
+      long long i0 = 0, i1 = 0;
+      siteRange(lat, a, blo[s], bhi[s], i0, i1);
+      lat.first[s] = any ? std::min(lat.first[s], i0) : i0;
+      lat.last[s] = any ? std::max(lat.last[s], i1) : i1;
     }
     any = true;
   }
-  if (!any) return out;
+  if (!any) return lat;
 
   // Periodic axes: only the sites of [lo, hi); the length must be a whole number of spacings.
   for (int a = 0; a < dim; ++a) {
     const size_t s = static_cast<size_t>(a);
     if (!domain.periodic[s]) continue;
     const double cells = domain.length(a) / dx;
+    if (!(cells < kMaxIndex))
+      tooLarge(dx, std::string("gives about ") + num(cells) + " spacings along the periodic axis " +
+                       "xyz"[a] + ", beyond 64-bit lattice indices");
     const long long n = std::llround(cells);
     if (n < 1 || std::abs(cells - static_cast<double>(n)) > 1e-6 * std::max(1.0, cells)) {
       std::ostringstream m;
@@ -83,77 +134,170 @@ LatticeFill fillLattice(const std::vector<Region>& regions, const Domain& domain
         << " spacings); particles would overlap or leave a gap across the periodic boundary";
       throw InputError(m.str());
     }
-    first[s] = std::max(first[s], 0LL);
-    last[s] = std::min(last[s], n - 1);
+    lat.first[s] = std::max(lat.first[s], 0LL);
+    lat.last[s] = std::min(lat.last[s], n - 1);
   }
+  lat.empty = false;
+  for (int a = 0; a < dim; ++a)
+    if (lat.last[static_cast<size_t>(a)] < lat.first[static_cast<size_t>(a)]) lat.empty = true;
+  return lat;
+}
 
-  std::array<long long, 3> count{1, 1, 1};
-  double total = 1.0;
-  for (int a = 0; a < dim; ++a) {
-    const size_t s = static_cast<size_t>(a);
-    count[s] = std::max(0LL, last[s] - first[s] + 1);
-    total *= static_cast<double>(count[s]);
-  }
-  if (total == 0.0) return out;
-  if (total > 2147483647.0) {
-    std::ostringstream m;
-    m << "the regions span " << total << " lattice sites of spacing " << dx
-      << " m (more than 2^31); the spacing is too small for the geometry";
-    throw InputError(m.str());
-  }
+/// Index ranges of each region clipped to the lattice (empty: r1 < r0 on some axis).
+struct RegionRange {
+  std::array<long long, 3> r0{0, 0, 0}, r1{0, 0, 0};
+  bool empty = false;
+};
 
-  // Owner of every site of the bounding lattice: -1 empty, else region index (later wins).
-  const long long nx = count[0], ny = count[1], nz = count[2];
-  std::vector<std::int32_t> owner(static_cast<size_t>(nx * ny * nz), -1);
+std::vector<RegionRange> regionRanges(const std::vector<Region>& regions, const Lattice& lat) {
+  std::vector<RegionRange> out(regions.size());
+  for (size_t k = 0; k < regions.size(); ++k) {
+    std::array<double, 3> blo, bhi;
+    regions[k].bounds(lat.dim, blo, bhi);
+    RegionRange& rr = out[k];
+    for (int a = 0; a < lat.dim; ++a) {
+      const size_t s = static_cast<size_t>(a);
+      long long i0 = 0, i1 = 0;
+      siteRange(lat, a, blo[s], bhi[s], i0, i1);
+      rr.r0[s] = std::max(lat.first[s], i0);
+      rr.r1[s] = std::min(lat.last[s], i1);
+      if (rr.r1[s] < rr.r0[s]) rr.empty = true;
+    }
+  }
+  return out;
+}
+
+/// Paints [a, b] with `owner` (-1: clears it) over the disjoint, sorted runs.
+void paint(std::vector<Run>& runs, std::vector<Run>& scratch, long long a, long long b, int owner) {
+  scratch.clear();
+  for (const Run& r : runs) {
+    if (r.b < a || r.a > b) {
+      scratch.push_back(r);
+      continue;
+    }
+    if (r.a < a) scratch.push_back({r.a, a - 1, r.owner});
+    if (r.b > b) scratch.push_back({b + 1, r.b, r.owner});
+  }
+  if (owner >= 0) scratch.push_back({a, b, owner});
+  std::sort(scratch.begin(), scratch.end(), [](const Run& p, const Run& q) { return p.a < q.a; });
+  runs.swap(scratch);
+}
+
+/// The filled sites of row (iy, iz), as runs of one owner each, sorted along x: every region is
+/// convex, so its sites in a row are one interval, found from its bounds and refined with
+/// Region::contains (the same test as a site-by-site fill).
+void rowRuns(const std::vector<Region>& regions, const std::vector<RegionRange>& ranges,
+             const Lattice& lat, long long iy, long long iz, std::vector<Run>& runs,
+             std::vector<Run>& scratch) {
+  runs.clear();
+  const int dim = lat.dim;
+  double x[3] = {0.0, 0.0, 0.0};
+  if (dim > 1) x[1] = lat.site(1, iy);
+  if (dim > 2) x[2] = lat.site(2, iz);
   for (size_t k = 0; k < regions.size(); ++k) {
     const Region& r = regions[k];
-    std::array<double, 3> blo, bhi;
-    r.bounds(dim, blo, bhi);
-    std::array<long long, 3> r0{0, 0, 0}, r1{0, 0, 0};
-    bool empty = false;
-    for (int a = 0; a < dim; ++a) {
-      const size_t s = static_cast<size_t>(a);
-      const double l = domain.lo[s];
-      r0[s] = std::max(first[s],
-                       static_cast<long long>(std::ceil((blo[s] - l) / dx - 0.5 - 1e-9)));
-      r1[s] = std::min(last[s],
-                       static_cast<long long>(std::floor((bhi[s] - l) / dx - 0.5 + 1e-9)));
-      if (r1[s] < r0[s]) empty = true;
+    const RegionRange& rr = ranges[k];
+    if (rr.empty) continue;
+    if (dim > 1 && (iy < rr.r0[1] || iy > rr.r1[1])) continue;
+    if (dim > 2 && (iz < rr.r0[2] || iz > rr.r1[2])) continue;
+    long long a = rr.r0[0], b = rr.r1[0];
+    if (r.shape == Region::Shape::Sphere) {
+      double d2 = 0.0;
+      for (int ax = 1; ax < dim; ++ax) {
+        const double d = x[ax] - r.centre[static_cast<size_t>(ax)];
+        d2 += d * d;
+      }
+      const double R = r.radius + lat.tol;
+      const double rem = R * R - d2;
+      if (rem < 0.0) continue;
+      const double half = std::sqrt(rem);
+      const double l = lat.origin[0];
+      const double fa = std::ceil((r.centre[0] - half - l) / lat.dx - 0.5);
+      const double fb = std::floor((r.centre[0] + half - l) / lat.dx - 0.5);
+      const double lo = static_cast<double>(a), hi = static_cast<double>(b);
+      a = std::max(a, static_cast<long long>(std::min(std::max(fa, lo), hi + 1.0)));
+      b = std::min(b, static_cast<long long>(std::max(std::min(fb, hi), lo - 1.0)));
     }
-    if (empty) continue;
-    const std::int32_t value = r.subtracts() ? -1 : static_cast<std::int32_t>(k);
-#pragma omp parallel for collapse(2) schedule(static)
-    for (long long iz = r0[2]; iz <= r1[2]; ++iz)
-      for (long long iy = r0[1]; iy <= r1[1]; ++iy) {
-        double x[3] = {0.0, 0.0, 0.0};
-        if (dim > 2) x[2] = domain.lo[2] + (static_cast<double>(iz) + 0.5) * dx;
-        if (dim > 1) x[1] = domain.lo[1] + (static_cast<double>(iy) + 0.5) * dx;
-        for (long long ix = r0[0]; ix <= r1[0]; ++ix) {
-          x[0] = domain.lo[0] + (static_cast<double>(ix) + 0.5) * dx;
-          if (r.contains(x, dim, tol)) {
-            const long long cell =
-                ((iz - first[2]) * ny + (iy - first[1])) * nx + (ix - first[0]);
-            owner[static_cast<size_t>(cell)] = value;
-          }
-        }
-      }
+    auto in = [&](long long i) {
+      x[0] = lat.site(0, i);
+      return r.contains(x, dim, lat.tol);
+    };
+    for (int s = 0; s < 2 && a - 1 >= rr.r0[0] && in(a - 1); ++s) --a;
+    for (int s = 0; s < 2 && b + 1 <= rr.r1[0] && in(b + 1); ++s) ++b;
+    for (int s = 0; s < 3 && a <= b && !in(a); ++s) ++a;
+    for (int s = 0; s < 3 && a <= b && !in(b); ++s) --b;
+    if (a > b || !in(a) || !in(b)) continue;
+    paint(runs, scratch, a, b, r.subtracts() ? -1 : static_cast<int>(k));
   }
+}
 
-  Index n = 0;
-  for (std::int32_t o : owner) n += o >= 0 ? 1 : 0;
-  out.position.reserve(static_cast<size_t>(n * dim));
-  out.region.reserve(static_cast<size_t>(n));
-  for (long long iz = 0; iz < nz; ++iz)
-    for (long long iy = 0; iy < ny; ++iy)
-      for (long long ix = 0; ix < nx; ++ix) {
-        const std::int32_t o = owner[static_cast<size_t>((iz * ny + iy) * nx + ix)];
-        if (o < 0) continue;
-        const long long idx[3] = {ix + first[0], iy + first[1], iz + first[2]};
-        for (int a = 0; a < dim; ++a)
-          out.position.push_back(domain.lo[static_cast<size_t>(a)] +
-                                 (static_cast<double>(idx[a]) + 0.5) * dx);
-        out.region.push_back(o);
+}  // namespace
+
+LatticeCount countLattice(const std::vector<Region>& regions, const Domain& domain, double dx) {
+  LatticeCount out;
+  out.perRegion.assign(regions.size(), 0);
+  const Lattice lat = makeLattice(regions, domain, dx);
+  if (lat.empty) return out;
+  const int dim = lat.dim;
+  std::array<long long, 3> n{1, 1, 1};
+  double bounding = 1.0;
+  for (int a = 0; a < dim; ++a) {
+    const size_t s = static_cast<size_t>(a);
+    n[s] = lat.last[s] - lat.first[s] + 1;  // <= 2 kMaxIndex + 1 < 2^63
+    bounding *= static_cast<double>(n[s]);
+  }
+  out.boundingSites = bounding;
+  const double rows = static_cast<double>(n[1]) * static_cast<double>(n[2]);
+  if (rows > kMaxRows)
+    tooLarge(dx, "gives a lattice of about " + num(bounding) +
+                     " sites around the regions (" + num(rows) +
+                     " rows, more than 2^28), far more than a run can hold");
+  const std::vector<RegionRange> ranges = regionRanges(regions, lat);
+  std::vector<Run> runs, scratch;
+  std::uint64_t total = 0;
+  double approx = 0.0;
+  bool overflow = false;
+  for (long long iz = lat.first[2]; iz <= lat.last[2]; ++iz)
+    for (long long iy = lat.first[1]; iy <= lat.last[1]; ++iy) {
+      rowRuns(regions, ranges, lat, iy, iz, runs, scratch);
+      for (const Run& r : runs) {
+        const std::uint64_t len = static_cast<std::uint64_t>(r.b - r.a) + 1;
+        approx += static_cast<double>(len);
+        std::uint64_t& reg = out.perRegion[static_cast<size_t>(r.owner)];
+        if (__builtin_add_overflow(total, len, &total)) overflow = true;
+        if (__builtin_add_overflow(reg, len, &reg)) overflow = true;
       }
+    }
+  if (overflow || total > kMaxLatticeParticles) {
+    tooLarge(dx, "fills the regions with about " + num(approx) + " particles (more than 2^31 - 1 = " +
+                     std::to_string(kMaxLatticeParticles) + ", the most a run can index)");
+  }
+  out.sites = total;
+  return out;
+}
+
+LatticeFill fillLattice(const std::vector<Region>& regions, const Domain& domain, double dx) {
+  const LatticeCount count = countLattice(regions, domain, dx);
+  LatticeFill out;
+  out.dimension = domain.dimension;
+  if (count.sites == 0) return out;
+  const Lattice lat = makeLattice(regions, domain, dx);
+  const int dim = lat.dim;
+  const std::vector<RegionRange> ranges = regionRanges(regions, lat);
+  out.position.reserve(static_cast<size_t>(count.sites) * static_cast<size_t>(dim));
+  out.region.reserve(static_cast<size_t>(count.sites));
+  std::vector<Run> runs, scratch;
+  for (long long iz = lat.first[2]; iz <= lat.last[2]; ++iz)
+    for (long long iy = lat.first[1]; iy <= lat.last[1]; ++iy) {
+      rowRuns(regions, ranges, lat, iy, iz, runs, scratch);
+      const long long idx[3] = {0, iy, iz};
+      for (const Run& r : runs)
+        for (long long ix = r.a; ix <= r.b; ++ix) {
+          out.position.push_back(lat.site(0, ix));
+          for (int a = 1; a < dim; ++a) out.position.push_back(lat.site(a, idx[a]));
+          out.region.push_back(r.owner);
+        }
+    }
   return out;
 }
 

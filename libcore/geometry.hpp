@@ -12,6 +12,7 @@
 // Regions are applied in order; a later region overrides earlier ones where they overlap. A
 // region with no material (material: none in the scene) subtracts: its sites hold no particle.
 #include <array>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -48,9 +49,34 @@ struct LatticeFill {
   Index count() const { return static_cast<Index>(region.size()); }
 };
 
+/// The most particles a scene may hold: particle ids are 32-bit (ParticleStore).
+constexpr std::uint64_t kMaxLatticeParticles = 2147483647ULL;
+
+/// Thrown when the spacing is too small for the geometry: the lattice cannot be indexed, counted
+/// or held (the message gives the spacing and the count it implies; the scene adds the key).
+class LatticeTooLarge : public InputError {
+ public:
+  using InputError::InputError;
+};
+
+/// Result of the counting pass: what fillLattice would produce, found row by row (x rows of the
+/// bounding lattice of the regions) with a few small buffers, without allocating per site.
+struct LatticeCount {
+  std::uint64_t sites = 0;                ///< lattice sites that hold a particle
+  std::vector<std::uint64_t> perRegion;   ///< sites owned by each region (0 for subtracting ones)
+  double boundingSites = 0.0;             ///< sites of the bounding lattice (may be huge)
+};
+
+/// Counts the sites that fillLattice would fill, with 64-bit overflow-safe arithmetic and in
+/// O(rows x regions^2) time (rows = lattice rows along x of the regions' bounding box). Throws
+/// LatticeTooLarge when the lattice indices would overflow, when the bounding box has more than
+/// 2^28 rows, or when the count exceeds kMaxLatticeParticles; InputError when a periodic length
+/// is not a whole number of spacings.
+LatticeCount countLattice(const std::vector<Region>& regions, const Domain& domain, double dx);
+
 /// Fills `regions` on the lattice of spacing dx anchored at domain.lo (see the file comment).
-/// Throws InputError when a periodic length is not a whole number of spacings or when the
-/// lattice would be absurdly large (> 2^31 sites in the bounding box of the regions).
+/// Runs the counting pass first (same errors as countLattice) and allocates exactly the sites
+/// counted; no array over the bounding lattice is made.
 LatticeFill fillLattice(const std::vector<Region>& regions, const Domain& domain, double dx);
 
 }  // namespace poresph

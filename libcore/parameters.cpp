@@ -1,6 +1,9 @@
 #include "libcore/parameters.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <map>
 #include <sstream>
 
 namespace poresph {
@@ -22,7 +25,78 @@ std::string nodeText(const YAML::Node& n) {
     if (c == '\n') c = ' ';
   return "'" + t + "'";
 }
+std::string keyText(const YAML::Node& k) {
+  if (k.IsScalar()) return k.Scalar();
+  std::ostringstream s;
+  s << YAML::Dump(k);
+  return s.str();
+}
+
+void checkDuplicates(const YAML::Node& node, const std::string& file, const std::string& path,
+                     long& budget) {
+  if (--budget < 0)
+    throw InputError(file + ": the scene expands to more than a million YAML nodes (nested "
+                            "aliases?); a scene is a small text file");
+  if (node.IsMap()) {
+    std::map<std::string, int> lineOf;
+    for (const auto& kv : node) {
+      const std::string key = keyText(kv.first);
+      const int line = kv.first.Mark().line + 1;
+      const std::string full = path.empty() ? key : path + "." + key;
+      const auto seen = lineOf.find(key);
+      if (seen != lineOf.end())
+        throw InputError(file + ":" + std::to_string(line) + ": key '" + full +
+                         "' appears twice (lines " + std::to_string(seen->second) + " and " +
+                         std::to_string(line) + "); give each key once");
+      lineOf.emplace(key, line);
+      checkDuplicates(kv.second, file, full, budget);
+    }
+  } else if (node.IsSequence()) {
+    for (std::size_t k = 0; k < node.size(); ++k)
+      checkDuplicates(node[k], file, path + "[" + std::to_string(k) + "]", budget);
+  }
+}
 }  // namespace
+
+std::size_t editDistance(const std::string& a0, const std::string& b0) {
+  std::string a = a0, b = b0;
+  for (char& c : a) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  for (char& c : b) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const std::size_t n = a.size(), m = b.size();
+  // Optimal string alignment distance (Damerau-Levenshtein without repeated edits of a substring).
+  std::vector<std::vector<std::size_t>> d(n + 1, std::vector<std::size_t>(m + 1, 0));
+  for (std::size_t i = 0; i <= n; ++i) d[i][0] = i;
+  for (std::size_t j = 0; j <= m; ++j) d[0][j] = j;
+  for (std::size_t i = 1; i <= n; ++i)
+    for (std::size_t j = 1; j <= m; ++j) {
+      const std::size_t cost = a[i - 1] == b[j - 1] ? 0 : 1;
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + cost});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
+        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+    }
+  return d[n][m];
+}
+
+std::string closestMatch(const std::string& word, const std::vector<std::string>& candidates) {
+  std::string best;
+  std::size_t bestDistance = std::numeric_limits<std::size_t>::max();
+  for (const auto& c : candidates) {
+    if (c == word) continue;
+    const std::size_t len = std::min(word.size(), c.size());
+    const std::size_t allowed = len <= 4 ? 1 : len <= 8 ? 2 : 3;
+    const std::size_t d = editDistance(word, c);
+    if (d <= allowed && d < bestDistance) {
+      best = c;
+      bestDistance = d;
+    }
+  }
+  return best;
+}
+
+void checkDuplicateKeys(const YAML::Node& node, const std::string& file, const std::string& path) {
+  long budget = 1000000;
+  checkDuplicates(node, file, path, budget);
+}
 
 bool Range::contains(double v) const {
   if (!std::isfinite(v)) return false;
@@ -70,8 +144,25 @@ bool ParameterSet::has(const std::string& key) const {
 YAML::Node ParameterSet::get(const std::string& key) const {
   if (!has(key)) {
     const std::string full = path_.empty() ? key : path_ + "." + key;
+    // A key present but not read (yet) that is close to the missing one is likely its misspelling.
+    std::vector<std::string> unread;
+    std::map<std::string, int> lineOf;
+    if (node_.IsMap())
+      for (const auto& kv : node_) {
+        const std::string k = keyText(kv.first);
+        if (used_.count(k) || k == key) continue;
+        unread.push_back(k);
+        lineOf.emplace(k, kv.first.Mark().line + 1);
+      }
+    const std::string guess = closestMatch(key, unread);
+    std::string hint;
+    if (!guess.empty())
+      hint = " (did you mean '" + guess + "' on line " + std::to_string(lineOf[guess]) +
+             "? it is not a known key here)";
+    else if (node_.IsMap() && node_[key].IsDefined())
+      hint = " (it is given, but empty)";
     throw InputError(file_ + ":" + std::to_string(node_.Mark().line + 1) + ": required key '" +
-                     full + "' is missing");
+                     full + "' is missing" + hint);
   }
   used_.insert(key);
   return node_[key];
@@ -147,7 +238,8 @@ std::string ParameterSet::choice(const std::string& key, const std::vector<std::
     if (c == v) return v;
   std::string list;
   for (const auto& c : choices) list += (list.empty() ? "" : ", ") + c;
-  fail(key, "must be one of: " + list);
+  const std::string guess = closestMatch(v, choices);
+  fail(key, "must be one of: " + list + (guess.empty() ? "" : " (did you mean '" + guess + "'?)"));
 }
 
 std::string ParameterSet::choice(const std::string& key, const std::string& fallback,
@@ -191,11 +283,22 @@ std::vector<ParameterSet> ParameterSet::sectionList(const std::string& key) cons
 void ParameterSet::finish() const {
   if (!node_.IsMap()) return;
   for (const auto& kv : node_) {
-    const std::string key = kv.first.as<std::string>();
+    const std::string key = keyText(kv.first);
     if (!used_.count(key)) {
+      const std::vector<std::string> known(used_.begin(), used_.end());
+      const std::string guess = closestMatch(key, known);
+      std::string hint;
+      if (!guess.empty())
+        hint = "did you mean '" + guess + "'?";
+      else if (!known.empty()) {
+        hint = "misspelt, or not used by this model; known keys here: ";
+        for (std::size_t k = 0; k < known.size(); ++k) hint += (k ? ", " : "") + known[k];
+      } else {
+        hint = "misspelt, or not used by this model";
+      }
       throw InputError(file_ + ":" + std::to_string(kv.first.Mark().line + 1) + ": unknown key '" +
                        (path_.empty() ? key : path_ + "." + key) + "' = " + nodeText(kv.second) +
-                       " (misspelt, or not used by this model)");
+                       " (" + hint + ")");
     }
   }
 }

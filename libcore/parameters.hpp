@@ -29,6 +29,19 @@ struct Range {
   std::string describe() const;
 };
 
+/// Edit distance between two words (insertions, deletions, substitutions and transpositions of
+/// adjacent characters each cost 1; letter case is ignored).
+std::size_t editDistance(const std::string& a, const std::string& b);
+/// The candidate closest to `word` by editDistance when it is close enough to be a likely
+/// misspelling (at most 1 edit for words of up to 4 letters, 2 up to 8, else 3); "" if none.
+std::string closestMatch(const std::string& word, const std::vector<std::string>& candidates);
+
+/// Throws InputError when a mapping anywhere under `node` holds the same key twice (yaml-cpp
+/// keeps both entries and a lookup returns the first, so the second value would be silently
+/// ignored): "file:LINE: key 'path.key' appears twice (lines A and B)".
+void checkDuplicateKeys(const YAML::Node& node, const std::string& file,
+                        const std::string& path = "");
+
 class ParameterSet {
  public:
   ParameterSet() = default;
@@ -56,7 +69,8 @@ class ParameterSet {
   /// The raw node (for readers that need more than the typed accessors); marks the key used.
   YAML::Node raw(const std::string& key) const;
 
-  /// Throws InputError naming every key of the mapping that was never read.
+  /// Throws InputError naming the first key of the mapping that was never read, with the
+  /// closest key that was read ("did you mean ...?") or the list of the keys read.
   void finish() const;
 
   const std::string& file() const { return file_; }

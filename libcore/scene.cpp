@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <map>
@@ -9,6 +10,7 @@
 
 #include "libcore/corrections.hpp"
 #include "libcore/integrator.hpp"
+#include "libcore/memory.hpp"
 
 namespace poresph {
 
@@ -95,6 +97,13 @@ Scene buildScene(const YAML::Node& root, const std::string& file, const SceneOpt
   scene.source = root;
   if (!root.IsDefined() || root.IsNull())
     throw InputError(file + ":1: the scene is empty (expected a mapping of key: value)");
+  if (!root.IsMap()) {
+    std::string got = root.IsSequence() ? "a list" : "the text '" + root.Scalar() + "'";
+    if (got.size() > 80) got = got.substr(0, 77) + "...'";
+    throw InputError(file + ":" + std::to_string(root.Mark().line + 1) +
+                     ": the scene must be a mapping of key: value (dimension: ..., domain: ..., "
+                     "spacing: ..., see docs/scene-format.md), got " + got);
+  }
   const ParameterSet top(root, file, "");
   YAML::Node& res = scene.resolved;
 
@@ -129,6 +138,19 @@ Scene buildScene(const YAML::Node& root, const std::string& file, const SceneOpt
   sim.spacing = top.real("spacing", Range::positive());
   scene.hOverDx = top.real("h_over_dx", 1.3, Range{0.5, 10.0, false, false});
   scene.kernelName = top.choice("kernel", "cubic_spline", knownKernels());
+  scene.spacingWhere = top.where("spacing") + " = '" + top.raw("spacing").Scalar() + "'";
+  {
+    // The kernel divides by h^D and its gradient by h^(D+1): both must be finite and non-zero.
+    const double h = scene.hOverDx * sim.spacing;
+    const double hPow = std::pow(h, dim + 1);
+    if (!(h > 0.0) || !std::isfinite(h) || !(hPow >= std::numeric_limits<double>::min()) ||
+        !std::isfinite(hPow))
+      top.fail("spacing", "gives a smoothing length h = h_over_dx * spacing = " + fmt(h) +
+                              " m, unusable in double precision (h^" + std::to_string(dim + 1) +
+                              " = " + fmt(hPow) + " " +
+                              (hPow >= std::numeric_limits<double>::min() ? "overflows" : "underflows") +
+                              " in the kernel normalisation); the spacing is a length in metres");
+  }
   sim.kernel = Kernel(parseKernelType(scene.kernelName), dim, scene.hOverDx * sim.spacing);
   sim.correction = top.string("correction", "none");
   if (top.has("correction")) parseCorrection(sim.correction, top.where("correction") + " = '" + sim.correction + "'");
@@ -175,6 +197,18 @@ Scene buildScene(const YAML::Node& root, const std::string& file, const SceneOpt
     o.finish();
     if (steps) res["output"]["every_steps"] = scene.output.everySteps;
     else res["output"]["every_time"] = num(scene.output.everyTime);
+  }
+
+  // ---- health checks (libcore/health.hpp) ----
+  {
+    const ParameterSet h = top.has("health") ? top.section("health") : ParameterSet();
+    scene.health = readHealthLimits(top.has("health") ? &h : nullptr);
+    res["health"]["density_variation"] = num(scene.health.densityVariation);
+    res["health"]["max_mach"] = num(scene.health.maxMach);
+    res["health"]["dt_floor"] = num(scene.health.dtFloor);
+    res["health"]["energy_growth"] = num(scene.health.energyGrowth);
+    res["health"]["domain_margin"] = num(scene.health.domainMargin);
+    res["health"]["keep_going"] = scene.health.keepGoing;
   }
 
   // ---- materials -> modules ----
@@ -303,15 +337,78 @@ Scene buildScene(const YAML::Node& root, const std::string& file, const SceneOpt
   }
   for (const auto& name : scene.moduleSections) res[name] = YAML::Clone(root[name]);
 
-  // ---- particles ----
+  // ---- counting pass and memory estimate: nothing per particle is allocated yet ----
+  scene.referenceDensity = rho0;
+  scene.geometryWhere = top.where("geometry");
+  LatticeCount count;
+  try {
+    count = countLattice(scene.regions, sim.domain, sim.spacing);
+  } catch (const LatticeTooLarge& e) {
+    throw InputError(scene.spacingWhere + ": " + e.what());
+  } catch (const InputError& e) {
+    throw InputError(scene.geometryWhere + ": " + e.what());
+  }
+  if (count.sites == 0)
+    throw InputError(scene.geometryWhere +
+                     ": the regions hold no particle (every lattice site of spacing " +
+                     fmt(sim.spacing) + " m is outside the regions or subtracted)");
+  scene.particlesPerMaterial.assign(sim.materials.size(), 0);
+  for (size_t k = 0; k < scene.regions.size(); ++k)
+    if (scene.regions[k].material >= 0)
+      scene.particlesPerMaterial[static_cast<size_t>(scene.regions[k].material)] +=
+          static_cast<Index>(count.perRegion[k]);
+  {
+    MemoryEstimate& mem = scene.memory;
+    mem.particles = count.sites;
+    mem.fieldBytesPerParticle = sim.store.bytesPerParticle();
+    const double sOverDx = sim.kernel.support() / sim.spacing;
+    mem.neighbourBytesPerParticle =
+        static_cast<std::uint64_t>(latticeNeighbourCount(dim, sOverDx)) * sizeof(std::uint32_t) +
+        sizeof(std::int64_t) + 2 * sizeof(Index) + static_cast<std::uint64_t>(dim) * sizeof(double);
+    mem.bytesPerParticle = 2 * mem.fieldBytesPerParticle + mem.neighbourBytesPerParticle;
+    if (__builtin_mul_overflow(mem.particles, mem.bytesPerParticle, &mem.totalBytes))
+      mem.totalBytes = std::numeric_limits<std::uint64_t>::max();
+    mem.availableBytes = options.availableMemory ? options.availableMemory : availableMemoryBytes();
+    if (options.checkMemory && !mem.fits())
+      throw InputError(scene.spacingWhere + ": a run would need " + mem.describe() +
+                       ": it does not fit; use a larger spacing or a smaller geometry "
+                       "(poresph run --force tries anyway)");
+  }
+  if (!options.buildParticles) return scene;
+  buildParticles(scene);
+
+  if (options.initialise) {
+    initialiseScene(scene);
+    if (!scene.timeStep.adaptive && scene.timeStep.dt > scene.initialStableTimeStep) {
+      std::ostringstream msg;
+      msg.precision(6);
+      msg << dtWhere << " = '" << scene.timeStep.dt << "': the fixed time step " << scene.timeStep.dt
+          << " s exceeds the stable limit " << scene.initialStableTimeStep << " s of "
+          << scene.stableLimitModule
+          << " (CFL conditions, thesis Eqs. 2.49-2.50); lower time_step.dt to at most "
+          << scene.initialStableTimeStep << " s or set time_step.adaptive: true";
+      throw InputError(msg.str());
+    }
+  }
+  return scene;
+}
+
+}  // namespace
+
+void buildParticles(Scene& scene) {
+  Simulation& sim = *scene.sim;
+  const int dim = sim.dimension();
+  const std::vector<double>& rho0 = scene.referenceDensity;
   LatticeFill fill;
   try {
     fill = fillLattice(scene.regions, sim.domain, sim.spacing);
+  } catch (const LatticeTooLarge& e) {
+    throw InputError(scene.spacingWhere + ": " + e.what());
   } catch (const InputError& e) {
-    throw InputError(top.where("geometry") + ": " + e.what());
+    throw InputError(scene.geometryWhere + ": " + e.what());
   }
   if (fill.count() == 0)
-    throw InputError(top.where("geometry") +
+    throw InputError(scene.geometryWhere +
                      ": the regions hold no particle (every lattice site of spacing " +
                      fmt(sim.spacing) + " m is outside the regions or subtracted)");
   ParticleStore& st = sim.store;
@@ -339,24 +436,8 @@ Scene buildScene(const YAML::Node& root, const std::string& file, const SceneOpt
     motion[i] = r.motion;
     ++scene.particlesPerMaterial[static_cast<size_t>(r.material)];
   }
-
-  if (options.initialise) {
-    initialiseScene(scene);
-    if (!scene.timeStep.adaptive && scene.timeStep.dt > scene.initialStableTimeStep) {
-      std::ostringstream msg;
-      msg.precision(6);
-      msg << dtWhere << " = '" << scene.timeStep.dt << "': the fixed time step " << scene.timeStep.dt
-          << " s exceeds the stable limit " << scene.initialStableTimeStep << " s of "
-          << scene.stableLimitModule
-          << " (CFL conditions, thesis Eqs. 2.49-2.50); lower time_step.dt to at most "
-          << scene.initialStableTimeStep << " s or set time_step.adaptive: true";
-      throw InputError(msg.str());
-    }
-  }
-  return scene;
+  scene.particlesBuilt = true;
 }
-
-}  // namespace
 
 void initialiseScene(Scene& scene) {
   Simulation& sim = *scene.sim;
@@ -377,6 +458,22 @@ void initialiseScene(Scene& scene) {
 
 Scene loadSceneText(const std::string& text, const std::string& fileName,
                     const SceneOptions& options) {
+  // A scene is UTF-8 text: refuse binary data (NUL bytes, invalid UTF-8) with the offset.
+  for (std::size_t i = 0; i < text.size();) {
+    const unsigned char c = static_cast<unsigned char>(text[i]);
+    std::size_t len = c < 0x80 ? 1 : (c >> 5) == 0x6 ? 2 : (c >> 4) == 0xe ? 3 : (c >> 3) == 0x1e ? 4 : 0;
+    bool ok = c != 0 && len > 0 && i + len <= text.size();
+    for (std::size_t k = 1; ok && k < len; ++k)
+      ok = (static_cast<unsigned char>(text[i + k]) >> 6) == 0x2;
+    if (!ok) {
+      std::ostringstream m;
+      m << fileName << ": is not a text file (byte " << i << " is 0x" << std::hex << std::setw(2)
+        << std::setfill('0') << static_cast<int>(c)
+        << "); a scene is a YAML text file (docs/scene-format.md)";
+      throw InputError(m.str());
+    }
+    i += len;
+  }
   YAML::Node root;
   try {
     root = YAML::Load(text);
@@ -385,6 +482,7 @@ Scene loadSceneText(const std::string& text, const std::string& fileName,
                      std::to_string(e.mark.column + 1) + ": malformed YAML: " + e.msg);
   }
   try {
+    checkDuplicateKeys(root, fileName);
     return buildScene(root, fileName, options);
   } catch (const YAML::Exception& e) {
     throw InputError(fileName + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg);
@@ -392,11 +490,27 @@ Scene loadSceneText(const std::string& text, const std::string& fileName,
 }
 
 Scene loadScene(const std::string& path, const SceneOptions& options) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw InputError(path + ": is a directory, not a scene file (give the YAML file itself)");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot open the scene file (missing or unreadable)");
   std::ostringstream text;
   text << in.rdbuf();
   return loadSceneText(text.str(), path, options);
+}
+
+std::string MemoryEstimate::describe() const {
+  std::ostringstream o;
+  o << "about " << formatBytes(totalBytes) << " (" << particles << " particles x "
+    << bytesPerParticle << " bytes per particle: fields " << fieldBytesPerParticle
+    << ", their copy for step rollback " << fieldBytesPerParticle << ", neighbour lists ~"
+    << neighbourBytesPerParticle << ")";
+  if (availableBytes > 0)
+    o << "; available " << formatBytes(availableBytes) << " (MemAvailable)";
+  else
+    o << "; available memory unknown";
+  return o.str();
 }
 
 double Scene::nextTimeStep() const {
@@ -468,7 +582,10 @@ std::string describeScene(const Scene& scene) {
   o << "spacing:      dx = " << sim.spacing << " m, h = " << sim.kernel.h() << " m (h/dx = "
     << scene.hOverDx << "), kernel " << scene.kernelName << " (support " << sim.kernel.support()
     << " m), correction " << sim.correction << "\n";
-  o << "particles:    " << sim.store.realCount() << "\n";
+  if (scene.particlesBuilt || sim.store.realCount() > 0)
+    o << "particles:    " << sim.store.realCount() << "\n";
+  else
+    o << "particles:    " << scene.memory.particles << " (counted; not built)\n";
   for (const auto& m : sim.materials)
     o << "  " << std::left << std::setw(16) << m.name << std::right << std::setw(12)
       << scene.particlesPerMaterial[static_cast<size_t>(m.id)] << "  (model " << m.model << ")\n";
@@ -489,9 +606,14 @@ std::string describeScene(const Scene& scene) {
       << f.owner << flags << std::right << "\n";
   }
   const std::size_t bpp = sim.store.bytesPerParticle();
+  const double nParticles = scene.particlesBuilt || sim.store.realCount() > 0
+                                ? static_cast<double>(sim.store.realCount())
+                                : static_cast<double>(scene.memory.particles);
   o << "bytes/particle: " << bpp << " (fields), "
-    << fmt(static_cast<double>(bpp) * static_cast<double>(sim.store.realCount()) / 1048576.0)
-    << " MiB for all particles\n";
+    << fmt(static_cast<double>(bpp) * nParticles / 1048576.0) << " MiB for all particles\n";
+  if (scene.memory.particles > 0)
+    o << "memory:       a run needs " << scene.memory.describe()
+      << (scene.memory.fits() ? "" : ": does NOT fit") << "\n";
   const double sOverDx = sim.kernel.support() / sim.spacing;
   o << "neighbours:   ~" << latticeNeighbourCount(dim, sOverDx)
     << " per interior particle (lattice estimate, support " << fmt(sOverDx) << " dx)";

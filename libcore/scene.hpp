@@ -8,6 +8,7 @@
 // lattice of spacing dx (libcore/geometry.hpp), sets masses m = rho0 dx^D from each material's
 // `density`, initialises the modules and checks a fixed time step against the modules' stable
 // limit (Eqs. 2.49-2.50).
+#include <cstdint>
 #include <limits>
 #include <memory>
 #include <string>
@@ -17,6 +18,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "libcore/geometry.hpp"
+#include "libcore/health.hpp"
 #include "libcore/simulation.hpp"
 
 namespace poresph {
@@ -36,6 +38,33 @@ struct SceneOptions {
   /// Build neighbour lists, call every module's initialise(), evaluate the rates once and check
   /// the time step. `poresph info` loads without it.
   bool initialise = true;
+  /// Fill the geometry with particles. false: stop after the modules' configure(), the counting
+  /// pass and the memory estimate (Scene::memory), allocating no particle; buildParticles() does
+  /// the rest (`poresph info` prints the estimate first). Implies no initialise.
+  bool buildParticles = true;
+  /// Refuse (InputError naming `spacing`) a scene whose memory estimate exceeds the available
+  /// memory, before any particle is allocated (`poresph run --force` turns it off).
+  bool checkMemory = true;
+  /// The available memory to compare with, in bytes; 0: availableMemoryBytes() (MemAvailable).
+  std::uint64_t availableMemory = 0;
+};
+
+/// What a run of the scene needs in memory, estimated before any particle is allocated: the
+/// particle count of the counting pass (countLattice) times the bytes per particle of the fields
+/// the modules registered in configure(), twice (the run loop keeps a copy of the last good
+/// state), plus the neighbour lists (lattice estimate latticeNeighbourCount x 4 bytes + an 8-byte
+/// offset) and the search's per-particle arrays (16 + 8 D bytes). Periodic ghosts and the
+/// transient arrays of the geometry fill are not counted.
+struct MemoryEstimate {
+  std::uint64_t particles = 0;
+  std::uint64_t fieldBytesPerParticle = 0;      ///< ParticleStore::bytesPerParticle()
+  std::uint64_t neighbourBytesPerParticle = 0;  ///< lists + search
+  std::uint64_t bytesPerParticle = 0;           ///< 2 x fields + neighbours
+  std::uint64_t totalBytes = 0;                 ///< particles x bytesPerParticle (saturated)
+  std::uint64_t availableBytes = 0;             ///< MemAvailable (0: unknown)
+  bool fits() const { return availableBytes == 0 || totalBytes <= availableBytes; }
+  /// One line: "about 1.2 GiB for 5000000 particles x 256 bytes/particle (...); 20 GiB available".
+  std::string describe() const;
 };
 
 struct Scene {
@@ -50,8 +79,14 @@ struct Scene {
   long maxSteps = 0;  ///< 0: no limit
   TimeStepSettings timeStep;
   OutputSettings output;
+  HealthLimits health;      ///< the `health:` section (libcore/health.hpp)
   std::vector<Region> regions;
-  std::vector<Index> particlesPerMaterial;  ///< by material id
+  std::vector<Index> particlesPerMaterial;  ///< by material id (counted before the fill)
+  std::vector<double> referenceDensity;     ///< rho0 by material id
+  MemoryEstimate memory;                    ///< estimated before the particles are allocated
+  bool particlesBuilt = false;              ///< false after loadScene with buildParticles = false
+  std::string spacingWhere;                 ///< "file:line: key 'spacing' = '...'" for messages
+  std::string geometryWhere;                ///< "file:line: key 'geometry'" for messages
   std::vector<std::string> moduleSections;  ///< modules that got a scene section
   double initialStableTimeStep = std::numeric_limits<double>::infinity();
   std::string stableLimitModule;            ///< module with the smallest limit ("" if none)
@@ -74,6 +109,9 @@ Scene loadSceneText(const std::string& text, const std::string& fileName,
                     const SceneOptions& options = {});
 /// Module initialisation and the time-step check (what loadScene does with initialise = true).
 void initialiseScene(Scene& scene);
+/// Second phase of a scene loaded with buildParticles = false: fills the geometry with particles
+/// (masses, densities, materials, motions, velocities). Does not initialise.
+void buildParticles(Scene& scene);
 
 /// The resolved scene (every value used, defaults included, materials and module sections as
 /// given, modules in stage order) as YAML: what `poresph run` writes to run.yaml.
