@@ -151,6 +151,17 @@ std::string sceneSignature(const Scene& scene) {
   return fnv1a(e.c_str());
 }
 
+void checkInitialHealth(const Scene& scene, const std::string& origin) {
+  const Simulation& sim = *scene.sim;
+  HealthMonitor health(scene.health);
+  health.start(sim, scene.timeStep.adaptive ? scene.initialStableTimeStep : 0.0);
+  const auto issues = health.check(sim);
+  if (!issues.empty())
+    throw InputError(origin + ": the initial state fails a " +
+                     HealthMonitor::describe(sim, issues[0]) + " (the scene key health." +
+                     issues[0].check + " sets the bound; docs/reliability.md)");
+}
+
 void requestStop(int signal) { g_stopSignal = signal == 0 ? SIGTERM : signal; }
 
 RunResult runScene(Scene& scene, const RunOptions& options) {
@@ -182,15 +193,8 @@ RunResult runScene(Scene& scene, const RunOptions& options) {
   if (options.keepGoing) limits.keepGoing = true;
   HealthMonitor health(limits);
   health.start(sim, scene.timeStep.adaptive ? scene.initialStableTimeStep : 0.0);
-  {
-    // A state that fails a check before the first step is bad input, not a blow-up.
-    const auto issues = health.check(sim);
-    if (!issues.empty() && !limits.keepGoing)
-      throw InputError((options.restartFrom.empty() ? scene.file : options.restartFrom) +
-                       ": the initial state fails a " + HealthMonitor::describe(sim, issues[0]) +
-                       " (the scene key health." + issues[0].check +
-                       " sets the bound; docs/reliability.md)");
-  }
+  if (!limits.keepGoing)
+    checkInitialHealth(scene, options.restartFrom.empty() ? scene.file : options.restartFrom);
   std::vector<std::string> warned;  // checks already reported with keep_going
   OutputWriter writer(options.outDir);
   const std::string checkpointPath = options.outDir + "/checkpoint.h5";

@@ -51,6 +51,11 @@ RunResult runScene(Scene& scene, const RunOptions& options);
 /// time_step, output, health): written into checkpoints and compared on restart.
 std::string sceneSignature(const Scene& scene);
 
+/// Throws InputError (naming `origin`, the check, the particle) when the scene's current state
+/// already fails a health check: a run from it would stop at its first step. runScene() calls
+/// it (unless keep_going); `poresph run` calls it before it creates the output directory.
+void checkInitialHealth(const Scene& scene, const std::string& origin);
+
 /// Asks a running runScene() to stop after the step in progress (what the signal handlers do;
 /// also usable from tests). `signal` is reported in RunResult::signal.
 void requestStop(int signal);
