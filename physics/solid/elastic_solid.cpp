@@ -41,6 +41,9 @@ Mat<D> isotropicLaw(const Mat<D>& eps, double lambda, double mu) {
   return lambda * eps.trace() * Mat<D>::Identity() + 2.0 * mu * eps;
 }
 
+/// "file:line: key ...: " before a message about a scene entry (empty when set up in code).
+std::string prefix(const std::string& where) { return where.empty() ? std::string() : where + ": "; }
+
 }  // namespace
 
 void lameParameters(double E, double nu, int dim, Plane plane, double& lambda, double& mu) {
@@ -91,6 +94,7 @@ void ElasticSolidModule::configure(Simulation& sim, const std::vector<const Mate
     if (first) {
       formulation_ = form;
       plane_ = pl;
+      formulationWhere_ = p.where("formulation");
     } else if (form != formulation_ || pl != plane_) {
       p.fail("formulation", "all elastic materials of a run must use the same formulation and "
                             "plane assumption");
@@ -138,6 +142,7 @@ void ElasticSolidModule::configure(Simulation& sim, const std::vector<const Mate
                   : t == "traction" ? BoundaryType::Traction
                                     : BoundaryType::Pressure;
         bc.label = b.string("name", "boundary " + std::to_string(k));
+        bc.where = b.where(b.has("box") ? "box" : b.has("shell") ? "shell" : "material");
         if (b.has("box")) {
           const ParameterSet box = b.section("box");
           const auto lo = box.reals("min", static_cast<size_t>(dim));
@@ -240,7 +245,8 @@ void ElasticSolidModule::configure(Simulation& sim, const std::vector<const Mate
   if (anyMirror_) mirror_ = s.addInt("solid_mirror_source", 1, kInternal, me);
   if (formulation_ == Formulation::TotalLagrangian) {
     if (sim.domain.anyPeriodic())
-      throw InputError("solid module: the total_lagrangian formulation does not support periodic "
+      throw InputError(prefix(formulationWhere_) +
+                       "solid module: the total_lagrangian formulation does not support periodic "
                        "domains (its reference family is not carried across periodic images)");
     defGrad_ = s.addReal("deformation_gradient", dim * dim, kFieldDefault, me);
     piola_ = s.addReal("first_piola", dim * dim, kFieldNone, me);
@@ -339,7 +345,7 @@ void ElasticSolidModule::initialiseDim(Simulation& sim) {
     Index count = 0;
     for (Index i : mine) count += bc[i] == static_cast<std::int32_t>(b + 1);
     if (count == 0)
-      throw InputError("solid module: boundary '" + boundaries_[b].label +
+      throw InputError(prefix(boundaries_[b].where) + "solid module: boundary '" + boundaries_[b].label +
                        "' selects no solid particle (check its box/material)");
   }
 
@@ -377,7 +383,7 @@ void ElasticSolidModule::initialiseDim(Simulation& sim) {
       }
       if (arg < 0 || std::sqrt(best) > 0.1 * sim.spacing) {
         std::ostringstream msg;
-        msg << "solid module: mirror boundary '" << B.label << "': the layer particle at "
+        msg << prefix(B.where) << "solid module: mirror boundary '" << B.label << "': the layer particle at "
             << Xi.transpose() << " has no solid particle at its mirror image " << Xr.transpose()
             << " (the layer must mirror the body's particle arrangement across the plane)";
         throw InputError(msg.str());
@@ -405,7 +411,7 @@ void ElasticSolidModule::initialiseDim(Simulation& sim) {
         depth = std::max(depth, std::abs(d));
       }
       if (depth < 2.0 * sim.kernel.support() - sim.spacing)
-        throw InputError("solid module: mirror boundary '" + B.label + "' is " + fmt(depth) +
+        throw InputError(prefix(B.where) + "solid module: mirror boundary '" + B.label + "' is " + fmt(depth) +
                          " m deep; it must be at least twice the kernel support (" +
                          fmt(2.0 * sim.kernel.support()) + " m) deep");
     }

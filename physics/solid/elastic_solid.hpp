@@ -84,6 +84,7 @@ struct Boundary {
   /// so that u = 0 on the plane exactly and the displacement field stays smooth across it.
   bool mirror = false;
   std::array<double, 3> mirrorPoint{0, 0, 0}, mirrorNormal{0, 0, 0};
+  std::string where;  ///< "file:line: key 'solid.boundaries[k]...'": messages name the scene
 };
 
 class ElasticSolidModule : public Module {
@@ -158,6 +159,7 @@ class ElasticSolidModule : public Module {
   std::vector<double> volume_;
   IntField bc_, mirror_, family_, familyCount_;
   bool anyMirror_ = false;
+  std::string formulationWhere_;  ///< "file:line: key 'materials[k].formulation'", for messages
   int familyCapacity_ = 0;
   std::vector<Index> idToIndex_;
 };

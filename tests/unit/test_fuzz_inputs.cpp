@@ -408,6 +408,9 @@ class CaseMaker {
       else if (cls == "unknown_key") ok = n.kind == Y::Map;
       else if (cls == "duplicate_key") ok = n.kind == Y::Map && !n.map.empty();
       else if (cls == "spacing_tiny") ok = q.size() == 1 && q[0].key == "spacing";
+      else if (cls == "solid_boundary_selects_nothing")
+        ok = q.size() == 3 && q[0].key == "solid" && q[1].key == "boundaries" && n.find("box") &&
+             !n.find("shell") && !n.find("material");
       else if (cls == "wrong_type_string" || cls == "wrong_type_bool")
         ok = isNumber(n) || n.kind != Y::Scalar;
       else if (cls == "wrong_type_list") ok = n.kind != Y::Seq;
@@ -442,11 +445,21 @@ class CaseMaker {
       n.map.insert(n.map.begin() + static_cast<long>(k + 1 + rng_.below(n.map.size() - k)),
                    {entry.first, v});
       what = where + ": key '" + entry.first + "' repeated with value '" + v.text + "'";
+    } else if (cls == "solid_boundary_selects_nothing") {
+      // The boundary's box moved far outside the body: it selects no particle.
+      for (auto& kv : n.map)
+        if (kv.first == "box") {
+          for (auto& [k, v] : kv.second.map)
+            for (Y& c : v.seq) c.text = k == "min" ? "90" : "91";
+          what = where + ": box " + flow(kv.second);
+        }
     } else if (cls == "spacing_tiny") {
-      // 1e9 times finer: at least 1e11 particles in 1D, far beyond any memory.
+      // 1e9 (at least 1e11 particles in 1D, far beyond any memory), 1e30 or 1e300 times finer
+      // (lattice indices overflow any integer).
       const std::string old = n.text;
+      const double factor = std::vector<double>{1e-9, 1e-30, 1e-300}[rng_.below(3)];
       char buf[64];
-      std::snprintf(buf, sizeof(buf), "%.6g", std::strtod(old.c_str(), nullptr) * 1e-9);
+      std::snprintf(buf, sizeof(buf), "%.6g", std::strtod(old.c_str(), nullptr) * factor);
       n.text = buf;
       what = where + ": '" + old + "' -> '" + n.text + "'";
     } else if (cls.rfind("wrong_type_", 0) == 0) {
@@ -501,7 +514,8 @@ std::vector<Case> makeCases() {
   // Structural mutations (on the parsed tree, emitted again).
   const std::vector<std::pair<std::string, bool>> structural = {
       {"required_key_deleted", true}, {"unknown_key", true},       {"duplicate_key", true},
-      {"spacing_tiny", true},         {"wrong_type_string", true},
+      {"spacing_tiny", true},         {"solid_boundary_selects_nothing", true},
+      {"wrong_type_string", true},
       {"wrong_type_list", true},      {"wrong_type_mapping", true}, {"wrong_type_bool", true},
       {"number_negative", false},     {"number_zero", false},      {"number_huge", false},
       {"number_nan", true},           {"number_inf", true},        {"vector_length", true},
@@ -569,11 +583,11 @@ std::vector<Case> makeCases() {
   {
     const fs::path good = workDir() / "good_scene.yaml";
     writeBytes(good, maker.emitted(0));
-    const std::vector<std::string> threads = {"0", "-1", "abc", "1e9", "2147483648"};
-    for (int k = 0; k < kFileCasesPerClass + 2; ++k) {
-      Case c = maker.sceneAt("option_threads", true, "--threads " + threads[static_cast<size_t>(k) % threads.size()], good);
+    const std::vector<std::string> threads = {"0", "-1", "abc", "1e9", "2147483648", "100000"};
+    for (size_t k = 0; k < threads.size(); ++k) {
+      Case c = maker.sceneAt("option_threads", true, "--threads " + threads[k], good);
       c.args.push_back("--threads");
-      c.args.push_back(threads[static_cast<size_t>(k) % threads.size()]);
+      c.args.push_back(threads[k]);
       c.named = "--threads";
       cases.push_back(c);
     }
