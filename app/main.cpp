@@ -10,6 +10,7 @@
 #include <omp.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <csignal>
 #include <ctime>
 #include <filesystem>
@@ -17,7 +18,9 @@
 #include <iostream>
 #include <limits>
 #include <sstream>
+#include <thread>
 
+#include "libcore/parameters.hpp"
 #include "libcore/runner.hpp"
 #include "libcore/scene.hpp"
 #include "libcore/voxel_image.hpp"
@@ -56,13 +59,38 @@ void writeFile(const std::string& path, const std::string& text) {
 }
 
 int commandInfo(const std::string& scenePath) {
+  // Two phases: read, configure and count (nothing per particle allocated), print the memory
+  // estimate, and only then build the particles, if they fit.
   SceneOptions opt;
   opt.initialise = false;
+  opt.buildParticles = false;
+  opt.checkMemory = false;
   Scene scene = loadScene(scenePath, opt);
+  std::cout << "estimate:     a run needs " << scene.memory.describe() << "\n" << std::flush;
+  if (!scene.memory.fits()) {
+    std::cout << describeScene(scene) << "threads:      " << omp_get_max_threads() << "\n"
+              << "poresph: the scene would not fit in the available memory: particles not built; "
+                 "`poresph run` refuses it unless --force\n";
+    return 0;
+  }
+  buildParticles(scene);
   // Build the neighbour lists once so that the summary shows measured counts.
   scene.sim->updateNeighbours();
   std::cout << describeScene(scene) << "threads:      " << omp_get_max_threads() << "\n";
   return 0;
+}
+
+/// An unknown first word is named with the commands and the closest one ("rn" -> run), instead
+/// of CLI11's "The following arguments were not expected".
+void checkCommand(int argc, char** argv) {
+  if (argc < 2 || argv[1][0] == '-') return;
+  const std::vector<std::string> commands = {"run", "info", "image"};
+  const std::string word = argv[1];
+  if (std::find(commands.begin(), commands.end(), word) != commands.end()) return;
+  const std::string guess = closestMatch(word, commands);
+  throw InputError("unknown command '" + word + "'; commands: run, info, image" +
+                   (guess.empty() ? std::string() : " (did you mean '" + guess + "'?)") +
+                   "; see poresph --help");
 }
 
 /// A whole number in [lo, hi] from an option's text; the message names the option, the rule and
@@ -79,6 +107,15 @@ long long wholeNumberOption(const std::string& option, const std::string& text, 
   if (used == 0 || used != text.size() || value < lo || value > hi)
     throw InputError(option + ": " + rule + ", got " + (text.empty() ? "an empty value" : text));
   return value;
+}
+
+/// --threads: 1 .. 4 x the cores of this machine (0, negative or absurd counts are refused).
+int threadsOption(const std::string& text) {
+  const long long cores = std::max(1u, std::thread::hardware_concurrency());
+  return static_cast<int>(wholeNumberOption(
+      "--threads", text, 1, 4 * cores,
+      "the thread count must be a whole number from 1 to " + std::to_string(4 * cores) +
+          " (1 .. 4 x the " + std::to_string(cores) + " cores of this machine)"));
 }
 
 /// Pore statistics of a segmented raw image (docs/voxel-images.md).
@@ -125,11 +162,26 @@ std::string defaultOutputDirectory(const std::string& scenePath) {
 }
 
 int commandRun(const std::string& scenePath, std::string outDir, bool force,
-               const std::string& restart) {
-  // Check the scene before touching the output directory.
-  Scene scene = loadScene(scenePath);
+               const std::string& restart, bool keepGoing) {
+  // Check the scene before touching the output directory. The memory estimate is checked before
+  // any particle is allocated; --force runs a scene that does not fit anyway.
+  SceneOptions sceneOptions;
+  sceneOptions.checkMemory = !force;
+  Scene scene = loadScene(scenePath, sceneOptions);
+  if (restart.empty() && !keepGoing && !scene.health.keepGoing)
+    checkInitialHealth(scene, scenePath);
+  // A restart continues the run in the checkpoint's own directory unless --out says otherwise:
+  // that directory is not empty, and continuing it (timeseries rows and snapshots after the
+  // checkpoint's time replaced, earlier ones kept) is what was asked for.
+  std::error_code sameEc;
+  const std::string restartDir =
+      restart.empty() ? std::string() : fs::path(restart).parent_path().string();
+  if (outDir.empty() && !restart.empty()) outDir = restartDir.empty() ? "." : restartDir;
   if (outDir.empty()) outDir = defaultOutputDirectory(scenePath);
-  prepareOutputDirectory(outDir, force);
+  const bool continuing =
+      !restart.empty() && fs::exists(outDir, sameEc) &&
+      fs::equivalent(outDir, restartDir.empty() ? "." : restartDir, sameEc);
+  prepareOutputDirectory(outDir, force || continuing);
   const fs::path sceneCopy = fs::path(outDir) / fs::path(scenePath).filename();
   std::error_code ec;
   if (fs::absolute(sceneCopy, ec) != fs::absolute(scenePath, ec))
@@ -147,6 +199,7 @@ int commandRun(const std::string& scenePath, std::string outDir, bool force,
   opt.outDir = outDir;
   opt.progress = &std::cerr;
   opt.restartFrom = restart;
+  opt.keepGoing = keepGoing;
   const RunResult r = runScene(scene, opt);
 
   std::ostringstream end;
@@ -174,21 +227,29 @@ int main(int argc, char** argv) {
 
   std::string scenePath, outDir, restart;
   bool force = false;
-  int threads = 0;
+  std::string threadsText;  // checked by threadsOption (1 .. 4 x cores)
 
   CLI::App* run = app.add_subcommand("run", "Run a scene to its end_time");
   run->add_option("scene", scenePath, "Scene file (YAML, docs/scene-format.md)")->required();
   run->add_option("--out,-o", outDir,
                   "Output directory (refused if not empty, unless --force; default "
                   "runs/<scene>-<UTC date-time>)");
-  run->add_option("--threads,-t", threads, "OpenMP threads (default: OMP_NUM_THREADS or all)")
-      ->check(CLI::PositiveNumber);
-  run->add_flag("--force,-f", force, "Write into a non-empty output directory");
-  run->add_option("--restart", restart, "Resume from a checkpoint written by an earlier run");
+  run->add_option("--threads,-t", threadsText,
+                  "OpenMP threads, 1 .. 4 x cores (default: OMP_NUM_THREADS or all)");
+  run->add_flag("--force,-f", force,
+                "Write into a non-empty output directory; run a scene whose memory estimate "
+                "exceeds the available memory");
+  run->add_option("--restart", restart,
+                  "Resume from a checkpoint written by an earlier run of the same scene (the "
+                  "run continues in the checkpoint's directory unless --out is given)");
+  bool keepGoing = false;
+  run->add_flag("--keep-going", keepGoing,
+                "Health checks warn (once per check) instead of stopping the run "
+                "(docs/reliability.md)");
 
   CLI::App* info = app.add_subcommand("info", "Describe a scene without running it");
   info->add_option("scene", scenePath, "Scene file (YAML)")->required();
-  info->add_option("--threads,-t", threads, "OpenMP threads")->check(CLI::PositiveNumber);
+  info->add_option("--threads,-t", threadsText, "OpenMP threads, 1 .. 4 x cores");
 
   // Image values are taken as text and checked in commandImage, whose messages name the option.
   std::string imagePath, poreLabel = "0", connectivity = "6";
@@ -201,6 +262,12 @@ int main(int argc, char** argv) {
                     "Pore voxels touching by faces (6, default), also edges (18) or corners (26)");
 
   try {
+    checkCommand(argc, argv);
+  } catch (const InputError& e) {
+    std::cerr << "poresph: error: " << e.what() << "\n";
+    return kExitInput;
+  }
+  try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);  // prints help/version (code 0) or the error
@@ -208,10 +275,10 @@ int main(int argc, char** argv) {
   }
 
   try {
-    setThreads(threads);
+    if (!threadsText.empty()) setThreads(threadsOption(threadsText));
     if (info->parsed()) return commandInfo(scenePath);
     if (image->parsed()) return commandImage(imagePath, shape, poreLabel, connectivity);
-    if (run->parsed()) return commandRun(scenePath, outDir, force, restart);
+    if (run->parsed()) return commandRun(scenePath, outDir, force, restart, keepGoing);
   } catch (const InputError& e) {
     std::cerr << "poresph: error: " << e.what() << "\n";
     return kExitInput;
