@@ -20,8 +20,10 @@
 #include <utility>
 #include <vector>
 
+#include "libcore/fluid_properties.hpp"
 #include "libcore/health.hpp"
 #include "libcore/parameters.hpp"
+#include "libcore/phases.hpp"
 
 namespace poresph {
 
@@ -33,6 +35,10 @@ struct Material {
   std::string name;        ///< user's name (e.g. "water")
   std::string model;       ///< model name (e.g. "fluid", "elastic", "wall")
   ParameterSet parameters; ///< the material's mapping; the owning module reads and checks it
+  /// Set by the owning module in configure(); what other modules may read (libcore only):
+  std::int32_t phase = kPhaseUnset;  ///< libcore/phases.hpp; every particle of it gets this phase
+  FluidProperties fluid;             ///< fluids: density, sound speed, EOS, viscosity
+  double wettingCos = 0.0;           ///< boundaries (walls, solids, rigid): cos(theta), Eq. 1.10
 };
 
 class Module {
@@ -47,6 +53,11 @@ class Module {
                          const ParameterSet* section) = 0;
   /// Called once after the particles were created (initial densities, reference state).
   virtual void initialise(Simulation& sim) {}
+
+  /// The pair classes whose pair forces this module applies, to both particles of each pair
+  /// (libcore/phases.hpp). A module that only reads neighbours of another phase (e.g. the fluid
+  /// extrapolating its pressure onto a solid) does not own that class.
+  virtual std::vector<PairClass> ownedPairs() const { return {}; }
 
   virtual void kinematics(Simulation& sim) {}
   virtual void constitutive(Simulation& sim) {}

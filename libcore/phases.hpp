@@ -1,16 +1,44 @@
 #pragma once
 // Phase of a particle (core int field "phase"): decides the pair class of an interaction
-// (fluid-fluid, fluid-solid, ...). Each module sets the phase of the particles of its
-// materials in Module::initialise(); interface conditions dispatch on it.
+// (fluid-fluid, fluid-solid, ...). The module that owns a material declares its phase in
+// configure() (Material::phase); the scene gives each particle the phase of its material before
+// any module is initialised, so no particle is ever of an unset phase.
+//
+// Pair classes: every pair of phases present in a scene is an interaction that exactly one
+// module owns (Module::ownedPairs): that module applies the pair force to both particles of the
+// pair (action = reaction). Simulation::checkPairOwners refuses a scene where two modules claim
+// one class or a class whose phases are both present has no owner.
 #include <cstdint>
+#include <string>
 
 namespace poresph {
 
 enum Phase : std::int32_t {
+  kPhaseUnset = -1,  ///< a material whose module declared no phase (refused by the scene)
   kPhaseFluid = 0,  ///< water or gas (physics/fluid)
   kPhaseWall = 1,   ///< fixed boundary particles (take part in fluid sums, never move)
   kPhaseSolid = 2,  ///< deformable solid: clay matrix (physics/solid, physics/damage)
   kPhaseRigid = 3,  ///< rigid inclusions (physics/rigid)
+};
+constexpr int kPhaseCount = 4;
+
+inline const char* phaseName(std::int32_t p) {
+  switch (p) {
+    case kPhaseFluid: return "fluid";
+    case kPhaseWall: return "wall";
+    case kPhaseSolid: return "solid";
+    case kPhaseRigid: return "rigid";
+    default: return "unset";
+  }
+}
+
+/// An unordered pair of phases (a <= b).
+struct PairClass {
+  std::int32_t a = kPhaseFluid, b = kPhaseFluid;
+  PairClass() = default;
+  PairClass(std::int32_t p, std::int32_t q) : a(p < q ? p : q), b(p < q ? q : p) {}
+  bool operator==(const PairClass& o) const { return a == o.a && b == o.b; }
+  std::string name() const { return std::string(phaseName(a)) + "-" + phaseName(b); }
 };
 
 }  // namespace poresph

@@ -151,6 +151,17 @@ std::string sceneSignature(const Scene& scene) {
   return fnv1a(e.c_str());
 }
 
+void restoreCheckpoint(Scene& scene, const std::string& path) {
+  Simulation& sim = *scene.sim;
+  readCheckpoint(sim, path, sceneSignature(scene));
+  if (scene.finished())
+    throw InputError(path + ": the checkpoint is at time " + std::to_string(sim.time) +
+                     " s, step " + std::to_string(sim.step) + ", which is not before the end of " +
+                     scene.file + " (end_time " + std::to_string(scene.endTime) +
+                     " s, max_steps " + std::to_string(scene.maxSteps) +
+                     "): raise end_time (or max_steps) in the scene to continue the run");
+}
+
 void checkInitialHealth(const Scene& scene, const std::string& origin) {
   const Simulation& sim = *scene.sim;
   HealthMonitor health(scene.health);
@@ -171,16 +182,9 @@ RunResult runScene(Scene& scene, const RunOptions& options) {
   std::ostream* log = options.progress;
 
   std::unique_ptr<Integrator> integrator = makeIntegrator(scene.integrator);
-  const std::string signature = sceneSignature(scene);
+  const std::string signature = sceneSignature(scene);  // written into every checkpoint
   if (!options.restartFrom.empty()) {
-    readCheckpoint(sim, options.restartFrom, signature);
-    if (scene.finished())
-      throw InputError(options.restartFrom + ": the checkpoint is at time " +
-                       std::to_string(sim.time) + " s, step " + std::to_string(sim.step) +
-                       ", which is not before the end of " + scene.file + " (end_time " +
-                       std::to_string(scene.endTime) +
-                       " s, max_steps " + std::to_string(scene.maxSteps) +
-                       "): raise end_time (or max_steps) in the scene to continue the run");
+    restoreCheckpoint(scene, options.restartFrom);
     // The derived fields (pressure, stress, colour...) are not in the checkpoint: evaluate them
     // for the restored state so that the first row and snapshot equal the interrupted run's.
     sim.evaluateRates();

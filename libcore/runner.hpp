@@ -51,6 +51,12 @@ RunResult runScene(Scene& scene, const RunOptions& options);
 /// time_step, output, health): written into checkpoints and compared on restart.
 std::string sceneSignature(const Scene& scene);
 
+/// Reads a checkpoint into the scene's simulation, refusing (InputError naming the file) one of
+/// another scene (particle count, scene signature), a missing or unreadable file, and one whose
+/// time is not before the scene's end. runScene() calls it; `poresph run --restart` calls it
+/// before it touches the output directory.
+void restoreCheckpoint(Scene& scene, const std::string& path);
+
 /// Throws InputError (naming `origin`, the check, the particle) when the scene's current state
 /// already fails a health check: a run from it would stop at its first step. runScene() calls
 /// it (unless keep_going); `poresph run` calls it before it creates the output directory.

@@ -393,6 +393,31 @@ Scene buildScene(const YAML::Node& root, const std::string& file, const SceneOpt
   return scene;
 }
 
+/// Adds the registered modules (e.g. "coupling") that own a pair class whose phases are both
+/// present and that no module of the scene owns; they need no scene section (an explicit one,
+/// e.g. `coupling: {...}`, added them already).
+void addPairOwners(Simulation& sim) {
+  const std::vector<Index> count = sim.phaseCounts();
+  auto owned = [&](const PairClass& c) {
+    for (const auto& m : sim.modules)
+      for (const PairClass& o : m->ownedPairs())
+        if (o == c) return true;
+    return false;
+  };
+  for (const auto& name : ModuleRegistry::names()) {
+    if (sim.module(name)) continue;
+    std::unique_ptr<Module> m = ModuleRegistry::create(name);
+    if (!m->materialModels().empty()) continue;  // modules of materials come with them
+    bool needed = false;
+    for (const PairClass& c : m->ownedPairs())
+      needed = needed || (count[static_cast<size_t>(c.a)] > 0 &&
+                          count[static_cast<size_t>(c.b)] > 0 && !owned(c));
+    if (!needed) continue;
+    m->configure(sim, {}, nullptr);
+    sim.addModule(std::move(m));
+  }
+}
+
 }  // namespace
 
 void buildParticles(Scene& scene) {
@@ -422,6 +447,7 @@ void buildParticles(Scene& scene) {
   double* rho = st.data(st.density());
   std::int32_t* matId = st.data(st.material());
   std::int32_t* motion = st.data(sim.motion);
+  std::int32_t* phase = st.data(st.phase());
   for (Index k = 0; k < fill.count(); ++k) {
     const Index i = first + k;
     const Region& r = scene.regions[static_cast<size_t>(fill.region[static_cast<size_t>(k)])];
@@ -434,9 +460,15 @@ void buildParticles(Scene& scene) {
     rho[i] = r0;
     matId[i] = r.material;
     motion[i] = r.motion;
+    // The phase its module declared (libcore/phases.hpp): set before any module initialises,
+    // so that no module reads another module's particles as fluid.
+    phase[i] = sim.materials[static_cast<size_t>(r.material)].phase;
     ++scene.particlesPerMaterial[static_cast<size_t>(r.material)];
   }
   scene.particlesBuilt = true;
+  // Every pair class of the phases present has exactly one owner (libcore/phases.hpp).
+  addPairOwners(sim);
+  sim.checkPairOwners();
 }
 
 void initialiseScene(Scene& scene) {

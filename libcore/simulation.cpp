@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <cstring>
+
+#include "libcore/phases.hpp"
 #include <sstream>
 #include <stdexcept>
 
@@ -37,7 +39,12 @@ const Material& Simulation::addMaterial(const std::string& name, const std::stri
 void Simulation::addIntegrated(RealField value, RealField rate, bool freeOnly) {
   for (const auto& f : integrated) {
     if (f.value.id != value.id) continue;
-    if (f.rate.id == rate.id) return;
+    if (f.rate.id == rate.id && f.freeOnly == freeOnly) return;
+    if (f.rate.id == rate.id)
+      throw std::logic_error("field '" + store.spec(value.id).name + "' is already integrated " +
+                             (f.freeOnly ? "for free particles only" : "for every particle") +
+                             "; a module asked for it " +
+                             (freeOnly ? "for free particles only" : "for every particle"));
     // One rate per integrated field: the integrators keep one scratch copy per field, so a
     // second rate (e.g. two modules' XSPH corrections of the positions) would be lost silently.
     throw std::logic_error("field '" + store.spec(value.id).name + "' already has the rate '" +
@@ -45,6 +52,66 @@ void Simulation::addIntegrated(RealField value, RealField rate, bool freeOnly) {
                            store.spec(rate.id).name + "' cannot be integrated into it");
   }
   integrated.push_back(IntegratedField{value, rate, freeOnly});
+}
+
+std::vector<Index> Simulation::phaseCounts() const {
+  std::vector<Index> count(kPhaseCount + 1, 0);  // last entry: unset or unknown
+  const std::int32_t* ph = store.data(store.phase());
+  for (Index i = 0; i < store.realCount(); ++i)
+    ++count[ph[i] >= 0 && ph[i] < kPhaseCount ? static_cast<size_t>(ph[i]) : kPhaseCount];
+  return count;
+}
+
+void Simulation::checkPairOwners() const {
+  const std::vector<Index> count = phaseCounts();
+  if (count[kPhaseCount] > 0) {
+    const std::int32_t* ph = store.data(store.phase());
+    const std::int32_t* mt = store.data(store.material());
+    Index i = 0;
+    while (ph[i] >= 0 && ph[i] < kPhaseCount) ++i;
+    const int id = mt[i];
+    throw InputError("particle " + std::to_string(i) + " of material " +
+                     (id >= 0 && id < static_cast<int>(materials.size())
+                          ? "'" + materials[static_cast<size_t>(id)].name + "' (model " +
+                                materials[static_cast<size_t>(id)].model + ")"
+                          : std::to_string(id)) +
+                     " has no phase: its module declared none (a bug of that module)");
+  }
+  for (std::int32_t p = 0; p < kPhaseCount; ++p)
+    for (std::int32_t q = p; q < kPhaseCount; ++q) {
+      if (count[static_cast<size_t>(p)] == 0 || count[static_cast<size_t>(q)] == 0) continue;
+      if (p == kPhaseWall && q == kPhaseWall) continue;  // walls never move
+      if (p == q && count[static_cast<size_t>(p)] < 2) continue;
+      const PairClass c(p, q);
+      std::vector<std::string> owners;
+      for (const auto& m : modules)
+        for (const PairClass& o : m->ownedPairs())
+          if (o == c) owners.push_back(m->name());
+      if (owners.size() == 1) continue;
+      std::string names;
+      for (const auto& n : owners) names += (names.empty() ? "'" : ", '") + n + "'";
+      if (owners.empty())
+        throw InputError("the scene has " + std::string(phaseName(p)) + " and " + phaseName(q) +
+                         " particles but no module applies the " + c.name() +
+                         " pair forces (they would pass through each other); see "
+                         "docs/coupling.md for the pair classes each module owns");
+      throw InputError("the " + c.name() + " pair forces are claimed by several modules (" +
+                       names + "): exactly one may own a pair class (docs/coupling.md)");
+    }
+}
+
+RealField Simulation::previousAcceleration() {
+  if (!previousAcceleration_.valid())
+    previousAcceleration_ = store.addReal("previous_acceleration", dimension(), kFieldNone, "core");
+  return previousAcceleration_;
+}
+
+RealField Simulation::positionCorrection() {
+  if (!positionCorrection_.valid()) {
+    positionCorrection_ = store.addReal("position_correction", dimension(), kFieldNone, "core");
+    addIntegrated(store.position(), positionCorrection_, true);
+  }
+  return positionCorrection_;
 }
 
 void Simulation::updateNeighbours() {
@@ -64,6 +131,9 @@ void Simulation::updateNeighbours() {
 void Simulation::evaluateRates() {
   updateNeighbours();
   const Index n = store.size();
+  if (previousAcceleration_.valid())
+    std::memcpy(store.data(previousAcceleration_), store.data(acceleration),
+                sizeof(double) * static_cast<size_t>(n * dimension()));
   std::memset(store.data(acceleration), 0, sizeof(double) * static_cast<size_t>(n * dimension()));
   for (const auto& f : integrated) {
     const int c = store.components(f.rate.id);

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "libcore/domain.hpp"
+#include "libcore/fluid_pair_terms.hpp"
 #include "libcore/halo.hpp"
 #include "libcore/kernel.hpp"
 #include "libcore/module.hpp"
@@ -48,6 +49,9 @@ class Simulation {
   std::vector<IntegratedField> integrated;
   std::vector<std::unique_ptr<Module>> modules;
   std::vector<Material> materials;
+  /// How fluid pairs are evaluated (pressure form, viscosity mean, artificial viscosity): set by
+  /// the fluid module, read by every module that applies fluid pair terms (coupling).
+  FluidPairSettings fluidPairSettings;
   /// Appends a material (id = its index) whose parameters are a YAML mapping given as text, for
   /// scenes built in code (tests, benchmarks); errors name `origin` and materials[id].
   const Material& addMaterial(const std::string& name, const std::string& model,
@@ -62,8 +66,24 @@ class Simulation {
   // ---- scheduling ----
   void addModule(std::unique_ptr<Module> module);
   Module* module(const std::string& name) const;
-  /// Registers d(value)/dt = rate with the integrator (both fields must exist).
+  /// Registers d(value)/dt = rate with the integrator (both fields must exist). A field has one
+  /// rate, advanced for one set of particles: a second rate, or the same rate with another
+  /// freeOnly, is refused (std::logic_error) instead of being dropped.
   void addIntegrated(RealField value, RealField rate, bool freeOnly = true);
+  /// Phases present among the real particles: count per phase (kPhaseCount entries).
+  std::vector<Index> phaseCounts() const;
+  /// The pair classes of the phases present (wall-wall excluded: walls never move) must each
+  /// have exactly one owner among the modules (Module::ownedPairs); throws InputError naming the
+  /// class and the modules otherwise, and for particles of an unset phase.
+  void checkPairOwners() const;
+  /// The acceleration of the previous rate evaluation (moving boundaries, Adami et al. 2012:
+  /// the wall pressure needs the wall's acceleration). Registered on first request; zero
+  /// before the first evaluation.
+  RealField previousAcceleration();
+  /// The position correction (XSPH, Eq. 2.66; particle shifting): one core field, integrated as
+  /// the second rate of the positions of free particles, that every module adds into (the
+  /// modules' corrections of their own particles never collide). Registered on first request.
+  RealField positionCorrection();
   /// Stage 1: wrap periodic particles, (re)build halos and neighbour lists; reorder the store
   /// along the cells every reorderEvery calls.
   void updateNeighbours();
@@ -80,6 +100,7 @@ class Simulation {
   double kineticEnergy() const;
 
  private:
+  RealField previousAcceleration_, positionCorrection_;
   Index neighbourBuilds_ = 0;
   std::vector<Index> order_;
 };

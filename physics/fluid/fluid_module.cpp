@@ -8,6 +8,8 @@
 #include <iostream>
 #include <sstream>
 
+#include "libcore/artificial_viscosity.hpp"
+#include "libcore/fluid_pair_terms.hpp"
 #include "libcore/phases.hpp"
 #include "libcore/simulation.hpp"
 
@@ -45,6 +47,8 @@ void FluidModule::configure(Simulation& sim, const std::vector<const Material*>&
       md.backgroundPressure = p.real("background_pressure", 0.0, Range::any());
       md.colour = p.real("colour", 1.0, Range::closed(-1.0, 1.0));
       maxSoundSpeed_ = std::max(maxSoundSpeed_, md.soundSpeed);
+      sim.materials[static_cast<size_t>(m->id)].phase = kPhaseFluid;
+      sim.materials[static_cast<size_t>(m->id)].fluid = md;  // the libcore part, for coupling
       maxNu_ = std::max(maxNu_, md.viscosity / md.rho0);
       minRho0_ = std::min(minRho0_, md.rho0);
     } else if (m->model == "wall") {
@@ -52,6 +56,8 @@ void FluidModule::configure(Simulation& sim, const std::vector<const Material*>&
       md.rho0 = p.real("density", Range::positive());
       const double theta = p.real("contact_angle", 90.0, Range::closed(0.0, 180.0));
       md.colour = std::cos(theta * kPi / 180.0);  // Eq. 1.10
+      sim.materials[static_cast<size_t>(m->id)].phase = kPhaseWall;
+      sim.materials[static_cast<size_t>(m->id)].wettingCos = md.colour;
       md.wallVelocity = p.has("velocity") ? p.reals("velocity", static_cast<size_t>(d))
                                           : std::vector<double>(static_cast<size_t>(d), 0.0);
     } else {
@@ -111,11 +117,19 @@ void FluidModule::configure(Simulation& sim, const std::vector<const Material*>&
     s.finish();
   }
 
+  sim.fluidPairSettings = FluidPairSettings{pressureForm_ == PressureForm::HuAdams, harmonicMean_,
+                                            artificialViscosity_, sim.kernel.h()};
+
   // fields (produce = register-if-absent)
   auto& st = sim.store;
   pressure = st.addReal("pressure", 1, kFieldDefault, "fluid");
   densityRate = st.addReal("density_rate", 1, kFieldNone, "fluid");
   wallVelocity = st.addReal("wall_velocity", d, kFieldToGhosts, "fluid");
+  // Per-particle factor of the viscous lattice normalisation (forces stage), read by the pair
+  // terms of both particles of a pair (also by the coupling module, through the store).
+  viscousFactor = normaliseViscosity_
+                      ? st.addReal("viscous_factor", 1, kFieldToGhosts, "fluid")
+                      : RealField{};
   // Colour (5.6), normal (5.7), curvature (5.8) and the interface flag are needed only by the
   // CSF surface tension (1.9) and the wetting colour of walls (1.10), which acts only through
   // it: a scene without surface tension does not allocate them and skips those stages.
@@ -129,14 +143,15 @@ void FluidModule::configure(Simulation& sim, const std::vector<const Material*>&
     curvature = st.addReal("curvature", 1, kFieldOutput, "fluid");
     interface = st.addInt("interface", 1, kFieldOutput, "fluid");
   }
-  if (!summation_) sim.addIntegrated(st.density(), densityRate, true);
+  // Every particle (the solid's small-strain form integrates the same density field for all of
+  // its particles): fixed fluid and wall particles get a zero rate, so nothing changes there.
+  if (!summation_) sim.addIntegrated(st.density(), densityRate, false);
   positionCorrection = RealField{};
   if (xsph_ > 0.0 || shifting_ > 0.0) {
     // XSPH (Eq. 2.66) and particle shifting move a particle with v + dv: the correction dv is a
     // second rate of the positions, advanced by the integrator like any field (one field for
     // both: the integrators take one rate per field).
-    positionCorrection = st.addReal("fluid_position_correction", d, kFieldNone, "fluid");
-    sim.addIntegrated(st.position(), positionCorrection, true);
+    positionCorrection = sim.positionCorrection();  // shared with the other modules
   }
 }
 
@@ -162,7 +177,11 @@ void FluidModule::initialise(Simulation& sim) {
     const int id = mt[i];
     if (id < 0 || id >= static_cast<int>(mat_.size())) continue;
     const MaterialData& md = mat_[static_cast<size_t>(id)];
-    if (!md.owned) continue;
+    if (!md.owned) {
+      // Another module's boundary (solid, rigid): its wetting colour cos(theta) (Eq. 1.10).
+      if (col) col[i] = sim.materials[static_cast<size_t>(id)].wettingCos;
+      continue;
+    }
     if (md.fluid) {
       ph[i] = kPhaseFluid;
       if (rho[i] <= 0.0 || hydrostaticInit_) rho[i] = md.rho0;
@@ -179,6 +198,11 @@ void FluidModule::initialise(Simulation& sim) {
     }
   }
   if (hydrostaticInit_ && gNorm > 0.0) initialiseHydrostatic(sim);
+  // Moving boundaries (solids, prescribed walls) need their acceleration in the wall pressure.
+  movingBoundaries_ = false;
+  for (Index i = 0; i < n && !movingBoundaries_; ++i)
+    movingBoundaries_ = ph[i] != kPhaseFluid && mo[i] != kMotionFixed;
+  if (movingBoundaries_) boundaryAcceleration_ = sim.previousAcceleration();
   // Boundary particles of other modules: a volume is needed in the fluid sums.
   for (Index i = 0; i < n; ++i)
     if (ph[i] != kPhaseFluid && (rho[i] <= 0.0 || m[i] <= 0.0))
@@ -252,23 +276,6 @@ void FluidModule::initialiseHydrostatic(Simulation& sim) {
     rhoPrev = md.rho0;
     zPrev = e[k].height;
   }
-}
-
-double FluidModule::pressureOf(const MaterialData& m, double rho) {
-  const double c2 = m.soundSpeed * m.soundSpeed;
-  if (m.eos == Eos::Tait)
-    return m.rho0 * c2 / m.taitGamma * (std::pow(rho / m.rho0, m.taitGamma) - 1.0) +
-           m.backgroundPressure;
-  return c2 * (rho - m.rho0) + m.backgroundPressure;  // Eq. 1.4
-}
-
-double FluidModule::densityOf(const MaterialData& m, double p) {
-  const double c2 = m.soundSpeed * m.soundSpeed;
-  if (m.eos == Eos::Tait) {
-    const double base = std::max(1e-3, 1.0 + (p - m.backgroundPressure) * m.taitGamma / (m.rho0 * c2));
-    return m.rho0 * std::pow(base, 1.0 / m.taitGamma);
-  }
-  return std::max(1e-3 * m.rho0, m.rho0 + (p - m.backgroundPressure) / c2);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -486,11 +493,17 @@ void FluidModule::constitutiveD(Simulation& sim) {
   const double* x = st.data(st.position());
   const double* v = st.data(st.velocity());
   double* vw = st.data(wallVelocity);
+  const double* aw = movingBoundaries_ ? st.data(boundaryAcceleration_) : nullptr;
+  const std::int32_t* mo = st.data(sim.motion);
   Vec<D> g;
   for (int a = 0; a < D; ++a) g[a] = gravity_[static_cast<size_t>(a)];
 #pragma omp parallel for schedule(static)
   for (Index i = 0; i < n; ++i) {
     if (ph[i] == kPhaseFluid) continue;
+    // A moving boundary: g - a_w (Adami et al. 2012, Eq. 27), a_w of the last evaluation.
+    Vec<D> ga = g;
+    if (aw && mo[i] != kMotionFixed)
+      for (int a = 0; a < D; ++a) ga[a] -= aw[i * D + a];
     double sw = 0.0, sp = 0.0;
     Vec<D> srr = Vec<D>::Zero(), sv = Vec<D>::Zero();
     for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
@@ -505,7 +518,7 @@ void FluidModule::constitutiveD(Simulation& sim) {
       for (int a = 0; a < D; ++a) sv[a] += v[j * D + a] * w;
     }
     if (sw > 0.0) {
-      p[i] = (sp + g.dot(srr)) / sw;
+      p[i] = (sp + ga.dot(srr)) / sw;
       for (int a = 0; a < D; ++a) vw[i * D + a] = 2.0 * v[i * D + a] - sv[a] / sw;
     } else {
       p[i] = 0.0;
@@ -556,6 +569,34 @@ void FluidModule::forcesD(Simulation& sim) {
   Vec<D> g;
   for (int a = 0; a < D; ++a) g[a] = gravity_[static_cast<size_t>(a)];
 
+  // Lattice normalisation of the Laplacian (5.3/5.4): sum_b V_b |r_ab|^2 (-F_ab) = D holds in
+  // the continuum only; on the particle lattice it is a few per cent off at h ~ 1.3 dx, which
+  // becomes the same error on the effective viscosity. Each particle's factor D / moment makes
+  // the Laplacian of a quadratic field exact (1 where the support is truncated); a pair uses the
+  // mean of its two factors (a boundary pair: the fluid particle's), so that the viscous pair
+  // forces are equal and opposite and momentum is conserved.
+  if (normaliseViscosity_) {
+    double* factor = st.data(viscousFactor);
+#pragma omp parallel for schedule(static)
+    for (Index i = 0; i < n; ++i) {
+      if (ph[i] != kPhaseFluid) {
+        factor[i] = 1.0;
+        continue;
+      }
+      double moment = 0.0;  // sum_b V_b |r_ab|^2 (-F_ab) over every neighbour
+      for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
+        const Index j = nl.index[static_cast<size_t>(k)];
+        Vec<D> r;
+        for (int a = 0; a < D; ++a) r[a] = x[i * D + a] - x[j * D + a];
+        moment -= (m[j] / rho[j]) * r.squaredNorm() * W.F(r.norm());
+      }
+      factor[i] = moment > 0.5 * D ? D / moment : 1.0;
+    }
+    st.refreshGhosts(viscousFactor);
+  }
+  const double* visc = normaliseViscosity_ ? st.data(viscousFactor) : nullptr;
+  const FluidPairSettings pairSettings = sim.fluidPairSettings;
+
 #pragma omp parallel for schedule(dynamic, 256)
   for (Index i = 0; i < n; ++i) {
     if (ph[i] != kPhaseFluid || mo[i] == kMotionFixed) continue;
@@ -564,11 +605,18 @@ void FluidModule::forcesD(Simulation& sim) {
     const MaterialData& ma = md[ida];
     const double rhoa = rho[i], pa = p[i], mua = ma.viscosity;
     const double Va = m[i] / rhoa;
+    const double fa = visc ? visc[i] : 1.0;
+    FluidPairSide<D> sideA;
+    sideA.m = m[i];
+    sideA.rho = rhoa;
+    sideA.p = pa;
+    sideA.props = &ma;
     Vec<D> va;
     for (int a = 0; a < D; ++a) va[a] = v[i * D + a];
+    sideA.v = va;
     Vec<D> aP = Vec<D>::Zero(), aV = Vec<D>::Zero(), aA = Vec<D>::Zero(), dvX = Vec<D>::Zero(),
            gradC = Vec<D>::Zero();
-    double divv = 0.0, diff = 0.0, moment = 0.0;
+    double divv = 0.0, diff = 0.0;
     for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
       const Index j = nl.index[static_cast<size_t>(k)];
       Vec<D> r;
@@ -576,34 +624,36 @@ void FluidModule::forcesD(Simulation& sim) {
       const double F = W.F(r.norm());
       if (F == 0.0) continue;
       const Vec<D> gradW = F * r;
-      double rhob, pb, mub, Vb;
-      Vec<D> vb, vbVisc;
+      Vec<D> vb;
       for (int a = 0; a < D; ++a) vb[a] = v[j * D + a];
-      const bool fluidB = ph[j] == kPhaseFluid;
-      if (fluidB) {
-        const int idb = mt[j];
-        rhob = rho[j];
-        pb = p[j];
-        mub = (idb >= 0 && idb < nm) ? md[idb].viscosity : mua;
-        Vb = m[j] / rhob;
-        vbVisc = vb;
-        if (densityDiffusion_ > 0.0 && idb == ida)  // Molteni-Colagrossi density diffusion
-          diff += 2.0 * Vb * (rhoa - rhob) * F;
-        // XSPH (2.66) within one material: averaging across a density jump would drag the light
-        // phase with the heavy one.
-        if (xsphOn && idb == ida) dvX += (2.0 * m[j] / (rhoa + rhob) * W.value(r.norm())) * (vb - va);
-      } else {
-        // Boundary particle: extrapolated pressure, the density the fluid a would have at that
-        // pressure, the boundary particle's own volume; no-slip through v~_w.
-        pb = p[j];
-        rhob = densityOf(ma, pb);
-        mub = mua;
-        Vb = m[j] / rho[j];
-        for (int a = 0; a < D; ++a) vbVisc[a] = vw[j * D + a];
+      if (shiftOn) gradC += (m[j] / rho[j]) * gradW;  // grad of sum_b V_b W_ab (all neighbours)
+      if (ph[j] == kPhaseWall) {
+        // Fixed boundary: extrapolated pressure, no-slip velocity (the shared pair terms).
+        BoundaryPairSide<D> sideB;
+        sideB.p = p[j];
+        sideB.volume = m[j] / rho[j];
+        sideB.v = vb;
+        for (int a = 0; a < D; ++a) sideB.vNoSlip[a] = vw[j * D + a];
+        const FluidPairResult<D> t = fluidBoundaryPair<D>(r, F, sideA, sideB, pairSettings);
+        aP += t.pressure;
+        aV += fa * t.viscous;
+        aA += t.artificial;
+        divv += t.divergence;
+        continue;
       }
-      const double mb = rhob * Vb;
-      const Vec<D> vab = va - vbVisc;
-      moment -= Vb * r.squaredNorm() * F;
+      if (ph[j] != kPhaseFluid) continue;  // fluid-solid / fluid-rigid: the coupling's pairs
+      const int idb = mt[j];
+      const double rhob = rho[j], pb = p[j];
+      const double mub = (idb >= 0 && idb < nm) ? md[idb].viscosity : mua;
+      const double Vb = m[j] / rhob;
+      if (densityDiffusion_ > 0.0 && idb == ida)  // Molteni-Colagrossi density diffusion
+        diff += 2.0 * Vb * (rhoa - rhob) * F;
+      // XSPH (2.66) within one material: averaging across a density jump would drag the light
+      // phase with the heavy one.
+      if (xsphOn && idb == ida) dvX += (2.0 * m[j] / (rhoa + rhob) * W.value(r.norm())) * (vb - va);
+      const double mb = m[j];
+      const Vec<D> vab = va - vb;
+      const double fab = 0.5 * (fa + (visc ? visc[j] : 1.0));
       const double muBar = mua + mub > 0.0
                                ? (harmonicMean_ ? 4.0 * mua * mub / (mua + mub) : mua + mub)
                                : 0.0;
@@ -612,30 +662,19 @@ void FluidModule::forcesD(Simulation& sim) {
         const double pt = (rhob * pa + rhoa * pb) / (rhoa + rhob);
         const double vv = (Va * Va + Vb * Vb) / m[i];
         aP -= (vv * pt) * gradW;
-        aV += (vv * 0.5 * muBar * F) * vab;
+        aV += (fab * vv * 0.5 * muBar * F) * vab;
       } else {
         aP -= (mb * (pa / (rhoa * rhoa) + pb / (rhob * rhob))) * gradW;  // Eq. 5.2b
-        aV += (muBar * Vb * F / rhoa) * vab;                              // Eq. 5.4
+        aV += (fab * muBar * Vb * F / rhoa) * vab;                        // Eq. 5.4
       }
-      divv += Vb * (va - vb).dot(gradW);  // Eq. 5.1a (boundary: its own velocity)
-      if (shiftOn) gradC += Vb * gradW;   // gradient of the particle concentration sum_b V_b W_ab
+      divv += Vb * (va - vb).dot(gradW);  // Eq. 5.1a
       if (artificialViscosity_ > 0.0) {
-        // Monaghan's artificial viscosity (Eq. 2.64, linear term only), approaching pairs.
-        const double vr = (va - vb).dot(r);
-        if (vr < 0.0) {
-          const double muab = h * vr / (r.squaredNorm() + 0.01 * h * h);
-          const double cb = fluidB && mt[j] >= 0 && mt[j] < nm ? md[mt[j]].soundSpeed : ma.soundSpeed;
-          const double Pi = -artificialViscosity_ * 0.5 * (ma.soundSpeed + cb) * muab /
-                            (0.5 * (rhoa + rhob));
-          aA -= (mb * Pi) * gradW;
-        }
+        const double cb = (idb >= 0 && idb < nm) ? md[idb].soundSpeed : ma.soundSpeed;
+        const double Pi = artificialViscosityPi<D>(vab, r, h, artificialViscosity_, 0.0,
+                                                   ma.soundSpeed, cb, rhoa, rhob);
+        aA -= (mb * Pi) * gradW;  // Eq. 2.64
       }
     }
-    // Lattice normalisation of the Laplacian (5.3/5.4): sum_b V_b |r_ab|^2 (-F_ab) = D holds in
-    // the continuum only; on the particle lattice it is a few per cent off at h ~ 1.3 dx, which
-    // becomes the same error on the effective viscosity. Dividing by the discrete moment makes
-    // the Laplacian of a quadratic field exact (skipped where the support is truncated).
-    if (normaliseViscosity_ && moment > 0.5 * D) aV *= D / moment;
     Vec<D> ai = aP + aV + aA + g;
     for (const BodyForce& b : bodyForces_) {
       bool inside = true;
@@ -724,6 +763,18 @@ void FluidModule::diagnostics(const Simulation& sim,
   columns.emplace_back("fluid_max_density_variation", std::max(0.0, largestDensityVariation(sim).value));
   columns.emplace_back("fluid_max_speed", std::sqrt(vmax2));
   columns.emplace_back("fluid_kinetic_energy", ek);
+  // Compression energy sum m e(rho) (libcore internalEnergyOf): with the kinetic energy it is
+  // what an inviscid fluid conserves.
+  const double* rho = st.data(st.density());
+  const std::int32_t* mt = st.data(st.material());
+  const MaterialData* md = mat_.data();
+  const int nm = static_cast<int>(mat_.size());
+  double internal = 0.0;
+#pragma omp parallel for schedule(static) reduction(+ : internal)
+  for (Index i = 0; i < n; ++i)
+    if (ph[i] == kPhaseFluid && mt[i] >= 0 && mt[i] < nm && md[mt[i]].fluid)
+      internal += m[i] * internalEnergyOf(md[mt[i]], rho[i]);
+  columns.emplace_back("fluid_internal_energy", internal);
 }
 
 MaxAt FluidModule::largestDensityVariation(const Simulation& sim) const {
@@ -798,14 +849,16 @@ bool FluidModule::energyAccount(const Simulation& sim, EnergyAccount& account) c
     for (double c : f.acceleration) f2 += c * c;
     fMax = std::max(fMax, std::sqrt(f2));
   }
-  double potential = 0.0, mass = 0.0, compression = 0.0, lo = 1e300, hi = -1e300;
-#pragma omp parallel for schedule(static) reduction(+ : potential, mass, compression) \
+  const double* rho = st.data(st.density());
+  double potential = 0.0, internal = 0.0, mass = 0.0, compression = 0.0, lo = 1e300, hi = -1e300;
+#pragma omp parallel for schedule(static) reduction(+ : potential, internal, mass, compression) \
     reduction(min : lo) reduction(max : hi)
   for (Index i = 0; i < n; ++i) {
     if (ph[i] != kPhaseFluid || mt[i] < 0 || mt[i] >= nm || !md[mt[i]].fluid) continue;
     double gx = 0.0;
     for (int a = 0; a < d; ++a) gx += g[a] * x[i * d + a];
     potential -= m[i] * gx;  // E_p = -m g.x
+    internal += m[i] * internalEnergyOf(md[mt[i]], rho[i]);
     mass += m[i];
     // Kinetic energy of a flow at Mach 0.1: the scale of the compression energy the weakly
     // compressible fluid exchanges without accounting for it.
@@ -815,7 +868,7 @@ bool FluidModule::energyAccount(const Simulation& sim, EnergyAccount& account) c
     lo = std::min(lo, along);
     hi = std::max(hi, along);
   }
-  account.stored += potential;
+  account.stored += potential + internal;
   if (gNorm > 0.0 && hi > lo) account.storedRange += mass * gNorm * (hi - lo);
   // Body forces (e.g. a drainage pressure drop) do work that is not accounted: their scale is
   // m |f| times the domain diagonal.

@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "libcore/fluid_properties.hpp"
 #include "libcore/module.hpp"
 #include "libcore/particle_store.hpp"
 #include "libcore/types.hpp"
@@ -34,17 +35,13 @@ namespace poresph {
 
 class FluidModule : public Module {
  public:
-  enum class Eos { Linear, Tait };
+  using Eos = FluidProperties::Eos;
   enum class PressureForm { Symmetric, HuAdams };
-  struct MaterialData {
+  /// The libcore FluidProperties (copied into Material::fluid for the other modules) plus what
+  /// only this module uses.
+  struct MaterialData : FluidProperties {
     bool owned = false;  ///< a material of this module
     bool fluid = false;  ///< model "fluid" (otherwise a boundary)
-    double rho0 = 1000.0;
-    double soundSpeed = 0.0;
-    double viscosity = 0.0;
-    Eos eos = Eos::Linear;
-    double taitGamma = 7.0;
-    double backgroundPressure = 0.0;
     double colour = 1.0;         ///< fluid colour (5.6) or wall colour cos(theta) (1.10)
     std::vector<double> wallVelocity;
   };
@@ -69,10 +66,10 @@ class FluidModule : public Module {
   /// Gravity potential of the moving fluid; compression and surface energy as untracked scale.
   bool energyAccount(const Simulation& sim, EnergyAccount& account) const override;
 
-  /// Pressure from the EOS of material data m (Eq. 1.4 or Tait).
-  static double pressureOf(const MaterialData& m, double rho);
-  /// Inverse EOS: density of material m at pressure p.
-  static double densityOf(const MaterialData& m, double p);
+  /// fluid-fluid and fluid-wall (the fluid-solid pairs belong to the coupling module).
+  std::vector<PairClass> ownedPairs() const override {
+    return {PairClass(kPhaseFluid, kPhaseFluid), PairClass(kPhaseFluid, kPhaseWall)};
+  }
 
   // ---- read-only access for tests and diagnostics ----
   const MaterialData& materialData(int id) const { return mat_.at(static_cast<size_t>(id)); }
@@ -91,6 +88,9 @@ class FluidModule : public Module {
 
   // field handles
   RealField pressure, densityRate, colour, colourGradient, curvature, wallVelocity;
+  /// Viscous lattice normalisation factor D / sum_b V_b r^2 (-F) of each fluid particle (1 where
+  /// the support is truncated); registered only with viscosity_normalisation on.
+  RealField viscousFactor;
   /// Position correction: XSPH (2.66) plus particle shifting, a second rate of the positions;
   /// registered only with xsph > 0 or shifting > 0.
   RealField positionCorrection;
@@ -127,6 +127,8 @@ class FluidModule : public Module {
   double maxVariation_ = 0.0;
   double lastWarned_ = 0.0;
   long long boundExceeded_ = 0;
+  bool movingBoundaries_ = false;   // a non-fluid particle that is not fixed (initialise)
+  RealField boundaryAcceleration_;  // Simulation::previousAcceleration, when moving boundaries
   int dim_ = 2;
 };
 

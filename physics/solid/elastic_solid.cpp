@@ -2,6 +2,8 @@
 // the thesis (/work/shared/seeds/002_*.txt), Chapter 2.4 unless stated otherwise.
 #include "physics/solid/elastic_solid.hpp"
 
+#include "libcore/artificial_viscosity.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -43,7 +45,6 @@ Mat<D> isotropicLaw(const Mat<D>& eps, double lambda, double mu) {
 
 /// "file:line: key ...: " before a message about a scene entry (empty when set up in code).
 std::string prefix(const std::string& where) { return where.empty() ? std::string() : where + ": "; }
-
 }  // namespace
 
 void lameParameters(double E, double nu, int dim, Plane plane, double& lambda, double& mu) {
@@ -111,6 +112,11 @@ void ElasticSolidModule::configure(Simulation& sim, const std::vector<const Mate
     e.hourglass = p.real("hourglass", 0.0, Range::closed(0.0, 1000.0));
     if (e.hourglass > 0.0 && form != Formulation::TotalLagrangian)
       p.fail("hourglass", "hourglass control is for the total_lagrangian formulation only");
+    // Wetting of the solid's surface by the fluids (Eq. 1.10: its colour is cos(theta)); what
+    // the fluid reads from libcore, so contact angles hold on walls that deform and move.
+    const double theta = p.real("contact_angle", 90.0, Range::closed(0.0, 180.0));
+    sim.materials[static_cast<size_t>(m->id)].wettingCos = std::cos(theta * M_PI / 180.0);
+    sim.materials[static_cast<size_t>(m->id)].phase = kPhaseSolid;
     p.finish();
     lameParameters(e.young, e.poisson, dim, pl, e.lambda, e.mu);
     if (form == Formulation::SmallStrainDisplacement && e.lambda > e.mu * (1.0 + 1e-12))
@@ -260,8 +266,7 @@ void ElasticSolidModule::configure(Simulation& sim, const std::vector<const Mate
   if (anyXsph) {
     // XSPH (2.66) moves the particles with the corrected velocity v^ = v + dv^: the correction
     // dv^ is a second rate of the positions, advanced by the integrator like any other field.
-    xsph_ = s.addReal("solid_xsph_velocity", dim, kFieldNone, me);
-    sim.addIntegrated(s.position(), xsph_, true);
+    xsph_ = sim.positionCorrection();  // the core field every module adds into
   }
   sim.addIntegrated(energy_, energyRate_, false);
   sim.addIntegrated(work_, workRate_, false);
@@ -786,12 +791,9 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
   // Monaghan's artificial viscosity, Eqs. 2.64-2.65: the acceleration term -m_b Pi_ab grad.
   auto viscosity = [&](const ElasticMaterial& ea, const ElasticMaterial& eb, const Vec<D>& vab,
                        const Vec<D>& rab, double rhoa, double rhob) -> double {
-    const double vr = vab.dot(rab);
-    if (vr >= 0.0) return 0.0;
-    const double nu = -h * vr / (rab.squaredNorm() + 0.01 * h * h);                     // 2.65
-    const double alpha = 0.5 * (ea.avAlpha + eb.avAlpha), beta = 0.5 * (ea.avBeta + eb.avBeta);
-    return (alpha * 0.5 * (ea.waveSpeed + eb.waveSpeed) * nu + beta * nu * nu) /
-           (0.5 * (rhoa + rhob));                                                         // 2.64
+    return artificialViscosityPi<D>(vab, rab, h, 0.5 * (ea.avAlpha + eb.avAlpha),
+                                    0.5 * (ea.avBeta + eb.avBeta), ea.waveSpeed, eb.waveSpeed,
+                                    rhoa, rhob);
   };
 
   if (formulation_ == Formulation::TotalLagrangian) {

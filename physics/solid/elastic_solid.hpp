@@ -99,6 +99,10 @@ class ElasticSolidModule : public Module {
   void forces(Simulation& sim) override;
   void constraints(Simulation& sim) override;
   double timeStepLimit(const Simulation& sim) const override;
+  /// solid-solid (the fluid-solid pairs belong to the coupling module).
+  std::vector<PairClass> ownedPairs() const override {
+    return {PairClass(kPhaseSolid, kPhaseSolid)};
+  }
   void diagnostics(const Simulation& sim,
                    std::vector<std::pair<std::string, double>>& columns) const override;
   /// Solid speed against the wave speed (Eq. 2.50) and J = det F > 0 (TL); docs/reliability.md.

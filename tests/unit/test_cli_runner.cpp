@@ -28,11 +28,13 @@ class GravityProbe : public Module {
  public:
   std::string name() const override { return "gravity_probe"; }
   std::vector<std::string> materialModels() const override { return {"gravity_body"}; }
+  std::vector<PairClass> ownedPairs() const override { return {PairClass(kPhaseRigid, kPhaseRigid)}; }
   void configure(Simulation& sim, const std::vector<const Material*>& materials,
                  const ParameterSet* section) override {
     for (const Material* m : materials) {
       m->parameters.real("density", Range::positive());
       m->parameters.finish();
+      sim.materials[static_cast<size_t>(m->id)].phase = kPhaseRigid;  // pairs: its own class
     }
   }
   void forces(Simulation& sim) override {

@@ -19,9 +19,11 @@ class ProbeModule : public Module {
  public:
   std::string name() const override { return "probe"; }
   std::vector<std::string> materialModels() const override { return {"probe_body"}; }
+  std::vector<PairClass> ownedPairs() const override { return {PairClass(kPhaseRigid, kPhaseRigid)}; }
   void configure(Simulation& sim, const std::vector<const Material*>& materials,
                  const ParameterSet* section) override {
     for (const Material* m : materials) {
+      sim.materials[static_cast<size_t>(m->id)].phase = kPhaseRigid;  // pairs: its own class
       m->parameters.real("density", Range::positive());
       c_ = std::max(c_, m->parameters.real("sound_speed", Range::positive()));
       m->parameters.finish();

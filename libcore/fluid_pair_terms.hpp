@@ -1,0 +1,102 @@
+#pragma once
+// The pair terms of a fluid particle a with a neighbour b, written once and called by every
+// module that applies them: the fluid module (fluid-fluid, fluid-wall) and the coupling module
+// (fluid-solid, on both particles of the pair). A boundary neighbour (wall, solid, rigid) is
+// seen through the extrapolated pressure p_b and no-slip velocity v~_b of Adami et al. (2012)
+// that the fluid module writes in its constitutive stage (fields `pressure`, `wall_velocity`),
+// with the density the fluid a would have at p_b and the neighbour's own volume V_b.
+//
+//   pressure     m_b (p_a / rho_a^2 + p_b / rho_b^2) grad W            (Eq. 5.2b)
+//                or Hu & Adams: (V_a^2 + V_b^2) / m_a p~_ab grad W
+//   viscous      mu_ab V_b F / rho_a v_ab, mu_ab harmonic or arithmetic (Eq. 5.4), times the
+//                lattice normalisation factor of the pair (see FluidPairSettings)
+//   artificial   -m_b Pi_ab grad W, Pi_ab = -alpha c_ab mu_ab / rho_ab   (Eq. 2.64, linear term)
+//   continuity   V_b (v_a - v_b) . grad W                                (Eq. 5.1a)
+// grad W = F(r) r with r = x_a - x_b (BoundaryModel: how p_b and the continuity velocity are
+// taken). The force on a is m_a times the acceleration returned;
+// the coupling module applies minus that force to b.
+#include "libcore/artificial_viscosity.hpp"
+#include "libcore/fluid_properties.hpp"
+#include "libcore/types.hpp"
+
+namespace poresph {
+
+/// How a fluid sees a boundary neighbour's pressure and velocity in the pressure and continuity
+/// terms (the viscous term always uses the no-slip velocity v~_b):
+///  - Extrapolated (Adami et al. 2012): p_b and rho_b = rho(p_b) extrapolated from the fluid with
+///    the hydrostatic term; continuity with the boundary's own velocity. Exact hydrostatics at a
+///    fixed wall, but the pair does work that no energy accounts for: not for moving solids.
+///  - Mirror: the boundary acts as the mirror image of particle a (p_b = p_a, rho_b = rho_a,
+///    normal velocity reflected: v_a - v~_b = 2 (v_a - v_b) in the continuity sum). The pressure
+///    pair force -2 V_a V_b p_a grad W does exactly the work that the compression energy of a
+///    takes up, so fluid + solid conserve energy; the traction on the solid is still p n (the
+///    pair sum of grad W over a flat interface is A / 2).
+enum class BoundaryModel { Extrapolated, Mirror };
+
+struct FluidPairSettings {
+  bool huAdams = false;       ///< Hu & Adams (2006) pressure form instead of Eq. 5.2b
+  bool harmonicMean = true;   ///< harmonic mean of the viscosities (Eq. 5.4)
+  double artificialViscosity = 0.0;  ///< alpha of Eq. 2.64
+  double h = 0.0;             ///< smoothing length
+};
+
+/// The fluid particle a of the pair.
+template <int D>
+struct FluidPairSide {
+  double m = 0.0, rho = 0.0, p = 0.0;
+  const FluidProperties* props = nullptr;
+  Vec<D> v = Vec<D>::Zero();
+};
+
+/// A boundary neighbour b: extrapolated pressure, no-slip velocity, own volume and velocity.
+template <int D>
+struct BoundaryPairSide {
+  double p = 0.0, volume = 0.0;
+  Vec<D> v = Vec<D>::Zero(), vNoSlip = Vec<D>::Zero();
+};
+
+/// Accelerations of a from one neighbour, split by term (the viscous one without the
+/// normalisation factor), and the continuity contribution.
+template <int D>
+struct FluidPairResult {
+  Vec<D> pressure = Vec<D>::Zero(), viscous = Vec<D>::Zero(), artificial = Vec<D>::Zero();
+  double divergence = 0.0;  ///< V_b (v_a - v_b) . grad W
+};
+
+/// Pair terms of fluid a with boundary b; r = x_a - x_b, F = kernel F(|r|) (grad W = F r).
+template <int D>
+FluidPairResult<D> fluidBoundaryPair(const Vec<D>& r, double F, const FluidPairSide<D>& a,
+                                     const BoundaryPairSide<D>& b, const FluidPairSettings& s,
+                                     BoundaryModel model = BoundaryModel::Extrapolated) {
+  FluidPairResult<D> out;
+  const Vec<D> gradW = F * r;
+  const FluidProperties& fa = *a.props;
+  const bool mirror = model == BoundaryModel::Mirror;
+  const double pb = mirror ? a.p : b.p;
+  const double rhob = mirror ? a.rho : densityOf(fa, b.p);  // the fluid a at the boundary's p
+  const double mb = rhob * b.volume;
+  const double mua = fa.viscosity, mub = mua;
+  const double muBar =
+      mua + mub > 0.0 ? (s.harmonicMean ? 4.0 * mua * mub / (mua + mub) : mua + mub) : 0.0;
+  const Vec<D> vab = a.v - b.vNoSlip;
+  if (s.huAdams) {
+    const double Va = a.m / a.rho;
+    const double pt = (rhob * a.p + a.rho * pb) / (a.rho + rhob);
+    const double vv = (Va * Va + b.volume * b.volume) / a.m;
+    out.pressure = -(vv * pt) * gradW;
+    out.viscous = (vv * 0.5 * muBar * F) * vab;
+  } else {
+    out.pressure = -(mb * (a.p / (a.rho * a.rho) + pb / (rhob * rhob))) * gradW;  // 5.2b
+    out.viscous = (muBar * b.volume * F / a.rho) * vab;                            // 5.4
+  }
+  // 5.1a with the boundary's own velocity (Extrapolated) or the mirrored one (Mirror).
+  out.divergence = (mirror ? 2.0 : 1.0) * b.volume * (a.v - b.v).dot(gradW);
+  if (s.artificialViscosity > 0.0) {
+    const double Pi = artificialViscosityPi<D>(a.v - b.v, r, s.h, s.artificialViscosity, 0.0,
+                                            fa.soundSpeed, fa.soundSpeed, a.rho, rhob);
+    out.artificial = -(mb * Pi) * gradW;
+  }
+  return out;
+}
+
+}  // namespace poresph

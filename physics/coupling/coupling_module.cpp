@@ -1,0 +1,133 @@
+#include "physics/coupling/coupling_module.hpp"
+
+#include <cmath>
+
+#include "libcore/fluid_pair_terms.hpp"
+#include "libcore/phases.hpp"
+#include "libcore/simulation.hpp"
+
+namespace poresph {
+
+void CouplingModule::configure(Simulation& sim, const std::vector<const Material*>& materials,
+                               const ParameterSet* section) {
+  model_ = BoundaryModel::Mirror;
+  if (!section) return;
+  model_ = section->choice("fluid_solid", "mirror", {"mirror", "extrapolated"}) == "extrapolated"
+               ? BoundaryModel::Extrapolated
+               : BoundaryModel::Mirror;
+  section->finish();
+}
+
+void CouplingModule::initialise(Simulation& sim) {
+  const ParticleStore& st = sim.store;
+  if (!st.has("pressure") || !st.has("wall_velocity"))
+    throw InputError("coupling: fluid-solid pairs need the fluid module's extrapolated boundary "
+                     "pressure and velocity (fields 'pressure', 'wall_velocity'), which are "
+                     "missing: the scene has solid particles but no fluid material");
+  pressure_ = st.real("pressure");
+  wallVelocity_ = st.real("wall_velocity");
+  viscousFactor_ = st.has("viscous_factor") ? st.real("viscous_factor") : RealField{};
+  densityRate_ = st.has("density_rate") ? st.real("density_rate") : RealField{};
+}
+
+void CouplingModule::interfaces(Simulation& sim) {
+  dispatchDimension(sim.dimension(), [&](auto dc) { this->interfacesD<decltype(dc)::value>(sim); });
+}
+
+template <int D>
+void CouplingModule::interfacesD(Simulation& sim) {
+  ParticleStore& st = sim.store;
+  const Index n = st.realCount();
+  const auto& nl = sim.neighbours;
+  const Kernel& W = sim.kernel;
+  const double* x = st.data(st.position());
+  const double* v = st.data(st.velocity());
+  const double* m = st.data(st.mass());
+  const double* rho = st.data(st.density());
+  const double* p = st.data(pressure_);
+  const double* vw = st.data(wallVelocity_);
+  const double* visc = viscousFactor_.valid() ? st.data(viscousFactor_) : nullptr;
+  double* drho = densityRate_.valid() ? st.data(densityRate_) : nullptr;
+  const std::int32_t* ph = st.data(st.phase());
+  const std::int32_t* mt = st.data(st.material());
+  const std::int32_t* mo = st.data(sim.motion);
+  double* acc = st.data(sim.acceleration);
+  const FluidPairSettings settings = sim.fluidPairSettings;
+  const BoundaryModel model = model_;
+  const std::vector<Material>& mats = sim.materials;
+
+  // The force of solid particle b on fluid particle a (m_a times the shared pair terms). Both
+  // sides call it with the fluid particle first, so the two evaluations are identical and the
+  // forces cancel to round-off.
+  auto pairForce = [&](Index a, Index b, double& divergence) -> Vec<D> {
+    Vec<D> r;
+    for (int c = 0; c < D; ++c) r[c] = x[a * D + c] - x[b * D + c];
+    const double F = W.F(r.norm());
+    divergence = 0.0;
+    if (F == 0.0) return Vec<D>::Zero();
+    FluidPairSide<D> fa;
+    fa.m = m[a];
+    fa.rho = rho[a];
+    fa.p = p[a];
+    fa.props = &mats[static_cast<size_t>(mt[a])].fluid;
+    BoundaryPairSide<D> sb;
+    sb.p = p[b];
+    sb.volume = m[b] / rho[b];
+    for (int c = 0; c < D; ++c) {
+      fa.v[c] = v[a * D + c];
+      sb.v[c] = v[b * D + c];
+      sb.vNoSlip[c] = vw[b * D + c];
+    }
+    const FluidPairResult<D> t = fluidBoundaryPair<D>(r, F, fa, sb, settings, model);
+    divergence = t.divergence;
+    const double factor = visc ? visc[a] : 1.0;
+    return m[a] * (t.pressure + factor * t.viscous + t.artificial);
+  };
+  auto isFluid = [&](Index i) {
+    return ph[i] == kPhaseFluid && mats[static_cast<size_t>(mt[i])].fluid.valid();
+  };
+
+  double fx = 0.0, fy = 0.0, fz = 0.0;  // force of the fluid on the solid
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : fx, fy, fz)
+  for (Index i = 0; i < n; ++i) {
+    if (isFluid(i)) {
+      if (mo[i] == kMotionFixed) continue;
+      Vec<D> f = Vec<D>::Zero();
+      double divv = 0.0;
+      for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
+        const Index j = nl.index[static_cast<size_t>(k)];
+        if (ph[j] != kPhaseSolid) continue;
+        double div = 0.0;
+        f += pairForce(i, j, div);
+        divv += div;
+      }
+      for (int c = 0; c < D; ++c) acc[i * D + c] += f[c] / m[i];
+      if (drho) drho[i] += rho[i] * divv;  // Eq. 5.1a over the solid neighbours
+    } else if (ph[i] == kPhaseSolid) {  // fixed ones too: their load is in the total force
+      Vec<D> f = Vec<D>::Zero();
+      for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
+        const Index j = nl.index[static_cast<size_t>(k)];
+        if (!isFluid(j)) continue;
+        double div = 0.0;
+        f -= pairForce(j, i, div);  // reaction: minus the force of i on the fluid particle j
+      }
+      for (int c = 0; c < D; ++c) acc[i * D + c] += f[c] / m[i];
+      fx += f[0];
+      if (D > 1) fy += f[1 % D];
+      if (D > 2) fz += f[2 % D];
+    }
+  }
+  forceOnSolid_ = {fx, fy, fz};
+}
+
+void CouplingModule::diagnostics(const Simulation& sim,
+                                 std::vector<std::pair<std::string, double>>& columns) const {
+  const char* axis[3] = {"x", "y", "z"};
+  for (int c = 0; c < sim.dimension(); ++c)
+    columns.emplace_back(std::string("fluid_solid_force_") + axis[c],
+                         forceOnSolid_[static_cast<size_t>(c)]);
+}
+
+PORESPH_REGISTER_MODULE(CouplingModule, "coupling")
+
+}  // namespace poresph
