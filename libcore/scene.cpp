@@ -8,7 +8,6 @@
 #include <map>
 #include <sstream>
 
-#include "libcore/corrections.hpp"
 #include "libcore/integrator.hpp"
 #include "libcore/memory.hpp"
 
@@ -152,12 +151,16 @@ Scene buildScene(const YAML::Node& root, const std::string& file, const SceneOpt
                               " in the kernel normalisation); the spacing is a length in metres");
   }
   sim.kernel = Kernel(parseKernelType(scene.kernelName), dim, scene.hOverDx * sim.spacing);
-  sim.correction = top.string("correction", "none");
-  if (top.has("correction")) parseCorrection(sim.correction, top.where("correction") + " = '" + sim.correction + "'");
+  // There is no scene-wide `correction:` key (issue 11): it was parsed into
+  // Simulation::correction but no module read it (each module chooses its own correction; the
+  // solid always uses mixed_2.63b), so a scene giving it was told of a correction never applied.
+  if (top.has("correction"))
+    top.fail("correction", "unknown key: no module reads a scene-wide kernel/gradient correction "
+                           "(each module chooses its own, e.g. the solid always uses mixed_2.63b; "
+                           "see docs/operators.md); remove it");
   res["spacing"] = num(sim.spacing);
   res["h_over_dx"] = num(scene.hOverDx);
   res["kernel"] = scene.kernelName;
-  res["correction"] = sim.correction;
 
   // ---- time ----
   scene.integrator = top.choice("integrator", "leapfrog", integratorNames());
@@ -613,7 +616,7 @@ std::string describeScene(const Scene& scene) {
   o << " m\n";
   o << "spacing:      dx = " << sim.spacing << " m, h = " << sim.kernel.h() << " m (h/dx = "
     << scene.hOverDx << "), kernel " << scene.kernelName << " (support " << sim.kernel.support()
-    << " m), correction " << sim.correction << "\n";
+    << " m)\n";
   if (scene.particlesBuilt || sim.store.realCount() > 0)
     o << "particles:    " << sim.store.realCount() << "\n";
   else
