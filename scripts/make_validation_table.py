@@ -1,15 +1,36 @@
 #!/usr/bin/env python3
 """Regenerates docs/validation.md from the validation records of a build tree.
 
-Usage: python3 scripts/make_validation_table.py [BUILD_DIR] [OUTPUT]
+Usage: python3 scripts/make_validation_table.py [BUILD_DIR] [OUTPUT] [--drop REGEX ...]
+
 Each `validation` test writes BUILD_DIR/validation-records/<case>__<quantity>.json; this script
-collects them into one Markdown table (run `ctest -L validation` first)."""
+collects them into one Markdown table (run `ctest -L validation` first).
+
+Merging: rows of the existing OUTPUT whose (case, quantity) has no record in BUILD_DIR are kept
+(e.g. the long studies, label `validation_long`, when only the default suite ran) and listed on
+stdout; `--drop REGEX` removes kept rows whose "case | quantity" matches REGEX (a renamed or
+deleted record). Records always replace rows of the same (case, quantity).
+
+Errors: a row shows `rel. X` (|measured - reference| / |reference|, or the test's own relative
+measure) only when the reference is a non-zero number. A reference of 0 shows `abs. X`
+(|measured - reference|, in the units of the quantity, whose scale the quantity names, e.g.
+"/ p"); an error relative to 0 is never printed. A missing reference (null, or a source that
+starts with "none") shows `n/a`."""
 import json
 import pathlib
+import re
 import sys
 
-build = pathlib.Path(sys.argv[1] if len(sys.argv) > 1 else "build")
-out = pathlib.Path(sys.argv[2] if len(sys.argv) > 2 else pathlib.Path(__file__).resolve().parent.parent / "docs" / "validation.md")
+args = [a for a in sys.argv[1:]]
+drops = []
+while "--drop" in args:
+    i = args.index("--drop")
+    if i + 1 >= len(args):
+        sys.exit("--drop needs a regular expression")
+    drops.append(re.compile(args[i + 1]))
+    del args[i:i + 2]
+build = pathlib.Path(args[0] if len(args) > 0 else "build")
+out = pathlib.Path(args[1] if len(args) > 1 else pathlib.Path(__file__).resolve().parent.parent / "docs" / "validation.md")
 records = []
 for f in sorted((build / "validation-records").glob("*.json")):
     records.append(json.loads(f.read_text()))
@@ -26,21 +47,97 @@ def fmt(v):
     return f"{v:.4g}" if 1e-3 <= a < 1e5 else f"{v:.3e}"
 
 
-records.sort(key=lambda r: (r["case"], r["quantity"]))
+def no_reference(r):
+    return r["reference"] is None or str(r.get("reference_source", "")).strip().lower().startswith("none")
+
+
+def error_cell(r):
+    """The error column of one record: never an error relative to a zero reference."""
+    if no_reference(r):
+        return "n/a"
+    ref, meas = r["reference"], r["measured"]
+    if ref == 0:
+        absolute = r.get("absolute_error")
+        if absolute is None and meas is not None:
+            absolute = abs(meas - ref)  # records written before absolute_error existed
+        return "abs. " + fmt(absolute)
+    return "rel. " + fmt(r.get("relative_error"))
+
+
+HEADER = "| case | quantity | measured | reference | error | tolerance | resolution | wall [s] | reference source |"
+
+
+def split_row(line):
+    cells = [c.strip() for c in line.strip()[1:-1].split(" | ")]
+    return cells if len(cells) == 9 else None
+
+
+def convert_kept(cells, old_format):
+    """A kept row of a previous table; old tables had a bare 'rel. error' column, which for a zero
+    reference held the measured value: rewrite it as an absolute error."""
+    if not old_format:
+        return cells
+    ref, err = cells[3], cells[4]
+    if ref == "n/a" or cells[8].lower().startswith("none"):
+        cells[4] = "n/a"
+    elif ref == "0":
+        try:
+            cells[4] = "abs. " + fmt(abs(float(cells[2])))
+        except ValueError:
+            cells[4] = "n/a"
+    else:
+        cells[4] = "rel. " + err
+    return cells
+
+
+recorded = {(r["case"], r["quantity"]) for r in records}
+kept = []
+if out.exists():
+    old_format = None
+    for line in out.read_text().splitlines():
+        if line.startswith("| case |"):
+            old_format = "| rel. error |" in line
+            continue
+        if old_format is None or not line.startswith("| ") or line.startswith("| ---"):
+            continue
+        cells = split_row(line)
+        if cells is None:
+            sys.exit(f"{out}: cannot read the row (not 9 cells): {line[:120]}")
+        if (cells[0], cells[1]) in recorded:
+            continue
+        if any(d.search(cells[0] + " | " + cells[1]) for d in drops):
+            print(f"dropped: {cells[0]} | {cells[1]}")
+            continue
+        kept.append(convert_kept(cells, old_format))
+
+rows = []
+for r in records:
+    rows.append([r["case"], r["quantity"], fmt(r["measured"]),
+                 "none" if no_reference(r) else fmt(r["reference"]), error_cell(r),
+                 r.get("tolerance", ""), r["resolution"], fmt(r["wall_seconds"]),
+                 r.get("reference_source", "")])
+for cells in kept:
+    print(f"kept from the previous table (no record in {build}): {cells[0]} | {cells[1]}")
+rows += kept
+rows.sort(key=lambda c: (c[0], c[1]))
 lines = [
     "# Validation",
     "",
     "Generated by `scripts/make_validation_table.py` from the records that `ctest -L validation`",
     "writes to `<build>/validation-records/`; do not edit by hand. Each row: what was measured, the",
-    "reference (closed form or the thesis' number), the relative error, the resolution and the wall",
-    "time of the test on the machine that produced the table (2 cores).",
+    "reference (closed form or the thesis' number), the error, the resolution and the wall time of",
+    "the test on the machine that produced the table (2 cores). Rows of studies not run in that",
+    "build (e.g. label `validation_long`) are kept from the previous table.",
     "",
-    "| case | quantity | measured | reference | rel. error | tolerance | resolution | wall [s] | reference source |",
+    "Error column: `rel. X` is |measured - reference| / |reference| (or the relative measure the",
+    "test states) and appears only for a non-zero reference; `abs. X` is |measured - reference| for",
+    "a reference of 0, in the units of the quantity (its scale is named in the quantity, e.g.",
+    "\"/ p\"); `n/a` where there is no reference (a reported value).",
+    "",
+    HEADER,
     "| --- | --- | --- | --- | --- | --- | --- | --- | --- |",
 ]
-for r in records:
-    lines.append("| {} | {} | {} | {} | {} | {} | {} | {} | {} |".format(
-        r["case"], r["quantity"], fmt(r["measured"]), fmt(r["reference"]), fmt(r["relative_error"]),
-        r.get("tolerance", ""), r["resolution"], fmt(r["wall_seconds"]), r.get("reference_source", "")))
+for c in rows:
+    lines.append("| " + " | ".join(c) + " |")
 out.write_text("\n".join(lines) + "\n")
-print(f"wrote {out} ({len(records)} records)")
+print(f"wrote {out} ({len(records)} records, {len(kept)} rows kept from the previous table)")

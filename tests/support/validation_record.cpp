@@ -33,15 +33,20 @@ std::string safeName(const std::string& s) {
 }
 }  // namespace
 
-std::string recordValidation(const ValidationRecord& r) {
+std::string recordValidation(const ValidationRecord& r, const std::string& where) {
   namespace fs = std::filesystem;
-  const fs::path dir = fs::path(PORESPH_BINARY_DIR) / "validation-records";
+  const fs::path dir =
+      where.empty() ? fs::path(PORESPH_BINARY_DIR) / "validation-records" : fs::path(where);
   fs::create_directories(dir);
   const fs::path file = dir / (safeName(r.caseName) + "__" + safeName(r.quantity) + ".json");
+  // A zero (or missing) reference has no relative error: write null, keep the absolute error.
+  const bool relativeMeaningful = std::isfinite(r.reference) && r.reference != 0.0;
+  const double relative = relativeMeaningful ? r.relativeError : std::nan("");
   std::ofstream out(file);
   out << "{\"case\": " << jsonString(r.caseName) << ", \"quantity\": " << jsonString(r.quantity)
       << ", \"measured\": " << jsonNumber(r.measured) << ", \"reference\": " << jsonNumber(r.reference)
-      << ", \"relative_error\": " << jsonNumber(r.relativeError)
+      << ", \"relative_error\": " << jsonNumber(relative)
+      << ", \"absolute_error\": " << jsonNumber(std::abs(r.measured - r.reference))
       << ", \"resolution\": " << jsonString(r.resolution)
       << ", \"wall_seconds\": " << jsonNumber(r.wallSeconds)
       << ", \"tolerance\": " << jsonString(r.tolerance)
