@@ -9,10 +9,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <sstream>
 
 #include "libcore/integrator.hpp"
+#include "libcore/phases.hpp"
 #include "libcore/scene.hpp"
 #include "physics/solid/solid_scenes.hpp"
 #include "tests/support/validation_record.hpp"
@@ -99,4 +101,180 @@ TEST(CouplingMomentum, DropletOnAFreeBlockConservesMomentumAndEnergy) {
   test::recordValidation({"coupling_droplet_block_energy", "relative drift of total energy",
                           worstE, 0.0, worstE, "2D, dx 1 mm, 10^4 steps", clock.seconds(),
                           "< 5 % (issue: 1 %)", "conservation (kinetic + compression + elastic)"});
+}
+
+// ---------------------------------------------------------------------------------------------
+// 3. Pressurised pore (2D, plane strain): a ring a <= r <= b of elastic clay around a cavity of
+// water at pressure p (the water's background pressure: at rho0 the EOS gives p). The solid is
+// loaded only through the fluid-solid pairs. Dynamic relaxation (solid damping) to the static
+// state; then the mean radial displacement and hoop stress of the innermost solid layer against
+// Lame at the mean pressure the water holds then:
+//   u(r) = (1 + nu) p a^2 / (E (b^2 - a^2)) [(1 - 2 nu) r + b^2 / r],
+//   sigma_t(r) = p a^2 / (b^2 - a^2) (1 + b^2 / r^2).
+namespace {
+
+struct PoreResult {
+  double displacementError = 0.0, hoopError = 0.0, pressure = 0.0, uMeasured = 0.0, uExact = 0.0;
+  double hoopMeasured = 0.0, hoopExact = 0.0, maxFluidSpeed = 0.0, wall = 0.0;
+  Index particles = 0, crossings = 0;
+};
+
+PoreResult runPressurisedPore(bool rings, int perThickness, double duration) {
+  test::Stopwatch clock;
+  const double a = 0.01, b = 0.02, p = 1000.0, E = 1.0e6, nu = 0.25;
+  const double dx = (b - a) / perThickness;
+  Simulation sim(2);
+  sim.addMaterial("water", "fluid",
+                  "{density: 1000, sound_speed: 3, viscosity: 0.05, background_pressure: " +
+                      std::to_string(p) + "}");
+  sim.addMaterial("clay", "elastic",
+                  "{density: 1000, young_modulus: 1.0e6, poisson_ratio: 0.25, "
+                  "formulation: total_lagrangian, damping: 3000}");
+  sim.spacing = dx;
+  sim.kernel = Kernel(KernelType::WendlandC2, 2, 1.3 * dx);
+  sim.domain.lo = {-2.0 * b, -2.0 * b, 0};
+  sim.domain.hi = {2.0 * b, 2.0 * b, 1};
+  std::vector<double> xy, vol;
+  std::vector<int> mat;
+  if (rings) {
+    solid::appendRings(a, dx, perThickness, xy, vol);
+    mat.assign(vol.size(), 1);
+  }
+  const int m = static_cast<int>(std::ceil(b / dx)) + 1;
+  for (int j = -m; j < m; ++j)
+    for (int i = -m; i < m; ++i) {
+      const double x = (i + 0.5) * dx, y = (j + 0.5) * dx, r = std::hypot(x, y);
+      const bool water = r < a - (rings ? 0.25 * dx : 0.0);
+      const bool clay = !rings && r >= a && r <= b;
+      if (!water && !clay) continue;
+      xy.push_back(x);
+      xy.push_back(y);
+      vol.push_back(dx * dx);
+      mat.push_back(water ? 0 : 1);
+    }
+  const Index n = static_cast<Index>(vol.size());
+  ParticleStore& st = sim.store;
+  // Modules first (they register their fields), then the particles with their phases.
+  {
+    std::unique_ptr<Module> fluid = ModuleRegistry::create("fluid");
+    fluid->configure(sim, {&sim.materials[0]}, nullptr);
+    sim.addModule(std::move(fluid));
+    std::unique_ptr<Module> solid = ModuleRegistry::create("solid");
+    solid->configure(sim, {&sim.materials[1]}, nullptr);
+    sim.addModule(std::move(solid));
+    std::unique_ptr<Module> coupling = ModuleRegistry::create("coupling");
+    coupling->configure(sim, {}, nullptr);
+    sim.addModule(std::move(coupling));
+  }
+  st.addParticles(n);
+  for (Index k = 0; k < n; ++k) {
+    const int id = mat[static_cast<size_t>(k)];
+    st.data(st.position())[2 * k] = xy[2 * static_cast<size_t>(k)];
+    st.data(st.position())[2 * k + 1] = xy[2 * static_cast<size_t>(k) + 1];
+    st.data(st.mass())[k] = 1000.0 * vol[static_cast<size_t>(k)];
+    st.data(st.density())[k] = 1000.0;
+    st.data(st.material())[k] = id;
+    st.data(st.phase())[k] = sim.materials[static_cast<size_t>(id)].phase;
+  }
+  sim.checkPairOwners();
+  sim.updateNeighbours();
+  for (auto& mod : sim.modules) mod->initialise(sim);
+  sim.evaluateRates();
+  auto integrator = makeIntegrator("leapfrog");
+  const double dt = 0.5 * std::min(sim.stableTimeStep(), cflTimeStep(sim, sim.kernel.h()));
+  const long steps = static_cast<long>(duration / dt);
+  PoreResult res;
+  const RealField X = st.real("reference_position"), sigma = st.real("stress");
+  const RealField pressure = st.real("pressure");
+  // Time averages over the last third of the run (the water's slosh is damped only slowly).
+  double pSum = 0.0, uSum = 0.0, tSum = 0.0, rSum = 0.0;
+  Index nf = 0, ns = 0;
+  for (long k = 0; k < steps; ++k) {
+    integrator->step(sim, dt);
+    if (k < 2 * steps / 3 || k % 10 != 0) continue;
+    for (Index i = 0; i < st.realCount(); ++i) {
+      const Vec<2> xi = st.vec<2>(st.position(), i);
+      if (st.data(st.phase())[i] == kPhaseFluid) {
+        pSum += st.data(pressure)[i];
+        ++nf;
+        continue;
+      }
+      const Vec<2> Xi = st.vec<2>(X, i);
+      const double r0 = Xi.norm();
+      if (r0 > a + dx) continue;  // the innermost layer (ring or staircase)
+      const Vec<2> er = Xi / r0, et(-er[1], er[0]);
+      uSum += (xi - Xi).dot(er);
+      tSum += et.dot(st.mat<2>(sigma, i) * et);
+      rSum += r0;
+      ++ns;
+    }
+  }
+  for (Index i = 0; i < st.realCount(); ++i) {
+    if (st.data(st.phase())[i] != kPhaseFluid) continue;
+    res.maxFluidSpeed = std::max(res.maxFluidSpeed, st.vec<2>(st.velocity(), i).norm());
+    if (st.vec<2>(st.position(), i).norm() > a + 0.5 * dx) ++res.crossings;  // water in the clay
+  }
+  res.pressure = pSum / nf;
+  const double r = rSum / ns;
+  const double A = res.pressure * a * a / (b * b - a * a);
+  res.uExact = (1.0 + nu) * res.pressure * a * a / (E * (b * b - a * a)) *
+               ((1.0 - 2.0 * nu) * r + b * b / r);
+  res.uMeasured = uSum / ns;
+  res.displacementError = std::abs(res.uMeasured - res.uExact) / res.uExact;
+  const double hoopExact = A * (1.0 + b * b / (r * r));
+  res.hoopError = std::abs(tSum / ns - hoopExact) / hoopExact;
+  res.hoopMeasured = tSum / ns;
+  res.hoopExact = hoopExact;
+  res.wall = clock.seconds();
+  res.particles = n;
+  std::printf("  %s, %d across: water p = %.1f Pa (loaded with %.0f), u(%.5f) = %.4e m (Lame "
+              "%.4e, %.2f %%), hoop %.1f Pa (Lame %.1f, %.2f %%), max water speed %.2e m/s, "
+              "%lld crossings, %lld particles, %.1f s\n",
+              rings ? "rings" : "lattice", perThickness, res.pressure, p, r, res.uMeasured,
+              res.uExact, 100.0 * res.displacementError, tSum / ns, hoopExact,
+              100.0 * res.hoopError, res.maxFluidSpeed, static_cast<long long>(res.crossings),
+              static_cast<long long>(n), res.wall);
+  return res;
+}
+
+}  // namespace
+
+TEST(CouplingPore, PressurisedRingAgainstLame) {
+  if (std::getenv("PORE_STUDY")) {
+    for (int n : {12, 16, 24})
+      for (double t : {0.01, 0.02}) runPressurisedPore(true, n, t);
+  }
+  // Measured (time averages over the last third of 0.01 s / 0.02 s): 12 rings 6.9 / 8.2 %
+  // displacement, 3.1 / 4.0 % hoop; 16 rings 4.0 / 4.9 %, 2.0 / 1.1 %; 24 rings 4.1 / 4.4 %,
+  // 3.0 / 2.7 %: the displacement stays ~4 % short of Lame from 16 rings on (docs/coupling.md).
+  const PoreResult r = runPressurisedPore(true, 16, 0.01);
+  EXPECT_LT(r.displacementError, 0.05);
+  EXPECT_LT(r.hoopError, 0.05);
+  EXPECT_EQ(r.crossings, 0);
+  const std::string res = "2D plane strain, 16 rings across the wall, " +
+                          std::to_string(r.particles) + " particles";
+  test::recordValidation({"coupling_pressurised_pore_rings", "radial displacement at the bore",
+                          r.uMeasured, r.uExact, r.displacementError, res, r.wall, "< 5 %",
+                          "Lame, thick cylinder at the water's pressure"});
+  test::recordValidation({"coupling_pressurised_pore_rings", "hoop stress at the bore",
+                          r.hoopMeasured, r.hoopExact, r.hoopError, res, r.wall, "< 5 %",
+                          "Lame, thick cylinder at the water's pressure"});
+}
+
+TEST(CouplingPore, PressurisedVoxelPoreAgainstLame) {
+  // The bore is a voxel staircase (what an image gives): displacement 2.6 %, hoop stress 17 %
+  // (the same 17 % as the solid alone under a nodal pressure load, docs/solid.md: the staircase,
+  // not the coupling). Bounds guard against regression; improving the staircase is open.
+  const PoreResult r = runPressurisedPore(false, 16, 0.01);
+  EXPECT_EQ(r.crossings, 0);
+  EXPECT_LT(r.displacementError, 0.05);
+  EXPECT_LT(r.hoopError, 0.20);
+  const std::string res = "2D plane strain, lattice, 16 dx across the wall, " +
+                          std::to_string(r.particles) + " particles";
+  test::recordValidation({"coupling_pressurised_pore_lattice", "radial displacement at the bore",
+                          r.uMeasured, r.uExact, r.displacementError, res, r.wall, "< 5 %",
+                          "Lame, thick cylinder at the water's pressure"});
+  test::recordValidation({"coupling_pressurised_pore_lattice", "hoop stress at the bore",
+                          r.hoopMeasured, r.hoopExact, r.hoopError, res, r.wall, "< 20 % (staircase)",
+                          "Lame, thick cylinder at the water's pressure"});
 }
