@@ -79,7 +79,7 @@ def convert_kept(cells, old_format):
         return cells
     ref, err = cells[3], cells[4]
     if ref == "n/a" or cells[8].lower().startswith("none"):
-        cells[4] = "n/a"
+        cells[3], cells[4] = "none", "n/a"
     elif ref == "0":
         try:
             cells[4] = "abs. " + fmt(abs(float(cells[2])))
