@@ -278,3 +278,74 @@ TEST(CouplingPore, PressurisedVoxelPoreAgainstLame) {
                           r.hoopMeasured, r.hoopExact, r.hoopError, res, r.wall, "< 20 % (staircase)",
                           "Lame, thick cylinder at the water's pressure"});
 }
+
+// The spherical pore (3D) on the voxel lattice, from a scene file (the shipped sample's 3D
+// twin): u(r) = p a^3 / (E (b^3 - a^3)) [(1 - 2 nu) r + (1 + nu) b^3 / (2 r^2)].
+TEST(CouplingPore, PressurisedSphericalVoxelPoreAgainstLame) {
+  test::Stopwatch clock;
+  const double a = 0.01, b = 0.02, E = 1.0e6, nu = 0.25;
+  const double dx = std::getenv("PORE_DX") ? std::atof(std::getenv("PORE_DX")) : 0.002;
+  const double endTime = std::getenv("PORE_T") ? std::atof(std::getenv("PORE_T")) : 0.01;
+  std::string text = R"(dimension: 3
+domain: {lo: [-0.025, -0.025, -0.025], hi: [0.025, 0.025, 0.025]}
+spacing: 0.002
+kernel: wendland_c2
+end_time: 0.01
+time_step: {adaptive: true, cfl: 0.5}
+output: {every_time: 0.001}
+materials:
+  - {name: water, model: fluid, density: 1000, sound_speed: 3, viscosity: 0.05, background_pressure: 1000}
+  - {name: clay, model: elastic, density: 1000, young_modulus: 1.0e6, poisson_ratio: 0.25, formulation: total_lagrangian, damping: 3000}
+geometry:
+  - {shape: sphere, centre: [0, 0, 0], radius: 0.02, material: clay}
+  - {shape: sphere, centre: [0, 0, 0], radius: 0.01, material: water}
+)";
+  text.replace(text.find("spacing: 0.002"), 14, "spacing: " + std::to_string(dx));
+  text.replace(text.find("end_time: 0.01"), 14, "end_time: " + std::to_string(endTime));
+  Scene s = loadSceneText(text, "pore_3d.yaml");
+  Simulation& sim = *s.sim;
+  ParticleStore& st = sim.store;
+  auto integrator = makeIntegrator("leapfrog");
+  const RealField X = st.real("reference_position"), pressure = st.real("pressure");
+  double pSum = 0.0, uSum = 0.0, rSum = 0.0;
+  Index nf = 0, ns = 0, crossings = 0;
+  long k = 0;
+  while (!s.finished()) {
+    integrator->step(sim, s.nextTimeStep());
+    if (sim.time < 2.0 / 3.0 * s.endTime || ++k % 10 != 0) continue;
+    for (Index i = 0; i < st.realCount(); ++i) {
+      if (st.data(st.phase())[i] == kPhaseFluid) {
+        pSum += st.data(pressure)[i];
+        ++nf;
+        continue;
+      }
+      const Vec<3> Xi = st.vec<3>(X, i);
+      const double r0 = Xi.norm();
+      if (r0 > a + dx) continue;
+      uSum += (st.vec<3>(st.position(), i) - Xi).dot(Xi / r0);
+      rSum += r0;
+      ++ns;
+    }
+  }
+  for (Index i = 0; i < st.realCount(); ++i)
+    if (st.data(st.phase())[i] == kPhaseFluid && st.vec<3>(st.position(), i).norm() > a + 0.5 * dx)
+      ++crossings;
+  const double p = pSum / nf, r = rSum / ns, u = uSum / ns;
+  const double exact = p * a * a * a / (E * (b * b * b - a * a * a)) *
+                       ((1.0 - 2.0 * nu) * r + (1.0 + nu) * b * b * b / (2.0 * r * r));
+  const double err = std::abs(u - exact) / exact;
+  std::printf("  3D lattice, dx %g: water p = %.1f Pa, u(%.5f) = %.4e m (Lame %.4e, "
+              "%.2f %%), %lld particles, %.1f s\n",
+              dx, p, r, u, exact, 100.0 * err, static_cast<long long>(st.realCount()), clock.seconds());
+  // Measured: 18.1 % at 5 dx across the wall (dx 2 mm), 13.8 % at 6.7 (dx 1.5 mm, 12.7 s), the
+  // same at twice the relaxation time: the staircase sphere converges slowly (docs/coupling.md;
+  // 3D body-fitted shells are not built). The bound guards the measured value against
+  // regression.
+  EXPECT_EQ(crossings, 0);
+  EXPECT_LT(err, 0.20);
+  test::recordValidation({"coupling_pressurised_pore_3d_lattice", "radial displacement at the bore",
+                          u, exact, err,
+                          "3D, lattice, 5 dx across the wall, " + std::to_string(st.realCount()) +
+                              " particles",
+                          clock.seconds(), "< 20 % (staircase)", "Lame, thick sphere at the water's pressure"});
+}
