@@ -470,8 +470,12 @@ void buildParticles(Scene& scene) {
   }
   scene.particlesBuilt = true;
   // Every pair class of the phases present has exactly one owner (libcore/phases.hpp).
-  addPairOwners(sim);
-  sim.checkPairOwners();
+  try {
+    addPairOwners(sim);
+    sim.checkPairOwners();
+  } catch (const InputError& e) {
+    throw InputError(scene.geometryWhere + ": " + e.what());
+  }
 }
 
 void initialiseScene(Scene& scene) {

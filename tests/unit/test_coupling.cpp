@@ -1,0 +1,181 @@
+// Pair classes and the fluid-solid coupling (libcore/phases.hpp, physics/coupling): one owner per
+// pair class, refused scenes, phases set before any module initialises, action = reaction of
+// every pair force, the coupling added only where fluid and solid meet, the solid's wetting
+// colour, one rate per integrated field.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "libcore/scene.hpp"
+
+using namespace poresph;
+
+namespace {
+
+std::string scene(const std::string& materials, const std::string& geometry,
+                  const std::string& extra = "") {
+  return R"(dimension: 2
+domain: {lo: [0, 0], hi: [0.02, 0.02]}
+spacing: 0.001
+kernel: wendland_c2
+end_time: 0.001
+time_step: {adaptive: true}
+output: {every_steps: 10}
+materials:
+)" + materials + "geometry:\n" + geometry + extra;
+}
+
+const std::string kWater =
+    "  - {name: water, model: fluid, density: 1000, sound_speed: 10, viscosity: 1.0e-3}\n";
+const std::string kClay =
+    "  - {name: clay, model: elastic, density: 2000, young_modulus: 1.0e6, poisson_ratio: 0.25, "
+    "contact_angle: 60}\n";
+
+std::string message(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST(PairClasses, CouplingIsAddedWhereFluidAndSolidMeetOnly) {
+  Scene both = loadSceneText(scene(kWater + kClay,
+                                   "  - {shape: box, lo: [0, 0], hi: [0.02, 0.01], material: clay}\n"
+                                   "  - {shape: box, lo: [0, 0.01], hi: [0.02, 0.02], material: water}\n"),
+                             "both.yaml");
+  EXPECT_NE(both.sim->module("coupling"), nullptr);
+  Scene fluid = loadSceneText(
+      scene(kWater, "  - {shape: box, lo: [0, 0], hi: [0.02, 0.02], material: water}\n"), "f.yaml");
+  EXPECT_EQ(fluid.sim->module("coupling"), nullptr);
+  // A solid material defined but no solid particle: no fluid-solid pairs, no coupling.
+  Scene unused = loadSceneText(
+      scene(kWater + kClay, "  - {shape: box, lo: [0, 0], hi: [0.02, 0.02], material: water}\n"),
+      "u.yaml");
+  EXPECT_EQ(unused.sim->module("coupling"), nullptr);
+}
+
+TEST(PairClasses, AClassWithoutOwnerIsRefused) {
+  // A solid touching fixed wall particles: nobody applies solid-wall forces.
+  const std::string m = message([] {
+    loadSceneText(scene(kClay + "  - {name: steel, model: wall, density: 7800}\n",
+                        "  - {shape: box, lo: [0, 0], hi: [0.02, 0.003], material: steel}\n"
+                        "  - {shape: box, lo: [0, 0.003], hi: [0.02, 0.02], material: clay}\n"),
+                  "solid_wall.yaml");
+  });
+  EXPECT_NE(m.find("solid_wall.yaml"), std::string::npos) << m;
+  EXPECT_NE(m.find("wall and solid particles"), std::string::npos) << m;
+  EXPECT_NE(m.find("wall-solid pair forces"), std::string::npos) << m;
+}
+
+namespace {
+class ClaimingModule : public Module {
+ public:
+  explicit ClaimingModule(std::string n) : name_(std::move(n)) {}
+  std::string name() const override { return name_; }
+  std::vector<std::string> materialModels() const override { return {}; }
+  std::vector<PairClass> ownedPairs() const override {
+    return {PairClass(kPhaseFluid, kPhaseFluid)};
+  }
+  void configure(Simulation&, const std::vector<const Material*>&, const ParameterSet*) override {}
+
+ private:
+  std::string name_;
+};
+}  // namespace
+
+TEST(PairClasses, AClassClaimedTwiceIsRefused) {
+  Simulation sim(2);
+  sim.addModule(std::make_unique<ClaimingModule>("first"));
+  sim.addModule(std::make_unique<ClaimingModule>("second"));
+  sim.store.addParticles(3);  // phase 0 = fluid
+  const std::string m = message([&] { sim.checkPairOwners(); });
+  EXPECT_NE(m.find("fluid-fluid pair forces are claimed by several modules ('first', 'second')"),
+            std::string::npos)
+      << m;
+  sim.store.data(sim.store.phase())[1] = kPhaseUnset;
+  EXPECT_NE(message([&] { sim.checkPairOwners(); }).find("has no phase"), std::string::npos);
+}
+
+TEST(PairClasses, OneRatePerIntegratedFieldAndOneParticleSet) {
+  Simulation sim(2);
+  const RealField f = sim.store.addReal("f", 1);
+  const RealField r = sim.store.addReal("f_rate", 1);
+  sim.addIntegrated(f, r, true);
+  EXPECT_NO_THROW(sim.addIntegrated(f, r, true));  // the same registration twice is harmless
+  // The same rate for another set of particles used to be dropped silently.
+  EXPECT_THROW(sim.addIntegrated(f, r, false), std::logic_error);
+  // Fluid and solid XSPH both add into the one core position correction.
+  EXPECT_EQ(sim.positionCorrection().id, sim.positionCorrection().id);
+}
+
+// A hydrostatic start with a solid block in the water: the solid's particles have their phase
+// before the fluid initialises (they used to be phase 0 = fluid, and the fluid divided by their
+// zero sound speed).
+TEST(PairClasses, HydrostaticStartWithASolidPresent) {
+  Scene s = loadSceneText(
+      scene(kWater + kClay,
+            "  - {shape: box, lo: [0, 0], hi: [0.02, 0.02], material: water}\n"
+            "  - {shape: box, lo: [0.008, 0.004], hi: [0.012, 0.008], material: clay}\n",
+            "fluid: {gravity: [0, -9.81], hydrostatic_level: 0.02}\n"),
+      "hydro.yaml");
+  const ParticleStore& st = s.sim->store;
+  const RealField p = st.real("pressure");
+  Index solids = 0;
+  for (Index i = 0; i < st.realCount(); ++i) {
+    ASSERT_TRUE(std::isfinite(st.data(p)[i])) << i;
+    ASSERT_TRUE(std::isfinite(st.data(st.density())[i])) << i;
+    if (st.data(st.phase())[i] != kPhaseSolid) continue;
+    ++solids;
+    EXPECT_DOUBLE_EQ(st.data(st.density())[i], 2000.0);  // the fluid left the solid's density
+  }
+  EXPECT_EQ(solids, 16);
+}
+
+// Every pair force of the coupled step is applied to both particles: with no gravity, the sum
+// of m a over all particles vanishes to round-off, and the solid feels the water.
+TEST(PairClasses, CoupledForcesSumToZero) {
+  Scene s = loadSceneText(
+      scene(kWater + kClay,
+            "  - {shape: box, lo: [0, 0], hi: [0.02, 0.02], material: water}\n"
+            "  - {shape: sphere, centre: [0.01, 0.01], radius: 0.004, material: clay, "
+            "velocity: [0.3, -0.2]}\n",
+            "fluid: {artificial_viscosity: 0.1}\n"),
+      "sum.yaml");
+  Simulation& sim = *s.sim;
+  // A disturbed state: random-ish densities so that the pressure varies.
+  ParticleStore& st = sim.store;
+  for (Index i = 0; i < st.realCount(); ++i)
+    if (st.data(st.phase())[i] == kPhaseFluid)
+      st.data(st.density())[i] = 1000.0 * (1.0 + 0.01 * std::sin(12.9898 * i));
+  sim.evaluateRates();
+  Vec<2> sum = Vec<2>::Zero(), solid = Vec<2>::Zero();
+  double scale = 0.0;
+  for (Index i = 0; i < st.realCount(); ++i) {
+    const Vec<2> f = st.data(st.mass())[i] * st.vec<2>(sim.acceleration, i);
+    sum += f;
+    scale += f.norm();
+    if (st.data(st.phase())[i] == kPhaseSolid) solid += f;
+  }
+  EXPECT_GT(solid.norm(), 1e-3 * scale) << "the solid feels the fluid";
+  EXPECT_LT(sum.norm(), 1e-12 * scale);
+}
+
+TEST(PairClasses, SolidParticlesCarryTheirWettingColour) {
+  Scene s = loadSceneText(
+      scene(kWater + kClay,
+            "  - {shape: box, lo: [0, 0], hi: [0.02, 0.02], material: water}\n"
+            "  - {shape: box, lo: [0, 0], hi: [0.02, 0.004], material: clay}\n",
+            "fluid: {surface_tension: 0.07}\n"),
+      "wet.yaml");
+  const ParticleStore& st = s.sim->store;
+  const RealField c = st.real("colour");
+  for (Index i = 0; i < st.realCount(); ++i)
+    if (st.data(st.phase())[i] == kPhaseSolid) {
+      EXPECT_NEAR(st.data(c)[i], 0.5, 1e-12);  // cos 60 degrees
+      break;
+    }
+}
