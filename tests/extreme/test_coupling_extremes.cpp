@@ -1,0 +1,183 @@
+// Fluid-solid coupling at the extremes (issue 11): solid/fluid bulk-modulus ratio 1 to 1e4,
+// solid/gas density ratio 1e4, a solid one particle thick, fluid squeezed between two solids.
+// Each case runs a fixed number of steps and asserts: every field finite, no fluid particle
+// crossing the interface (fluid particles stay on their side; no fluid-solid pair closer than
+// 0.3 dx), the health checks passed.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <sstream>
+
+#include "libcore/health.hpp"
+#include "libcore/integrator.hpp"
+#include "libcore/scene.hpp"
+
+using namespace poresph;
+
+namespace {
+
+struct Outcome {
+  double minGap = 1e300;  // closest fluid-solid pair over the run, in dx
+  Index crossings = 0;
+  double time = 0.0;
+  std::vector<HealthIssue> issues;
+};
+
+/// Runs `steps` steps; `side(i, x)` gives a fluid particle's side of the interface (+1 / -1, 0:
+/// not checked) so that a change of side counts as a crossing.
+Outcome run(const std::string& text, int steps,
+            const std::function<int(const double*)>& side = nullptr) {
+  Scene s = loadSceneText(text, "extreme.yaml");
+  Simulation& sim = *s.sim;
+  ParticleStore& st = sim.store;
+  auto integrator = makeIntegrator("leapfrog");
+  HealthMonitor health(s.health);
+  health.start(sim, s.initialStableTimeStep);
+  std::vector<int> start(static_cast<size_t>(st.realCount()), 0);
+  const std::int32_t* id = st.data(st.id());
+  if (side)
+    for (Index i = 0; i < st.realCount(); ++i)
+      if (st.data(st.phase())[i] == kPhaseFluid)
+        start[static_cast<size_t>(id[i])] = side(st.data(st.position()) + 2 * i);
+  Outcome o;
+  for (int k = 1; k <= steps; ++k) {
+    integrator->step(sim, s.nextTimeStep());
+    sim.checkFinite();
+    if (k % 50 != 0 && k != steps) continue;
+    const double* x = st.data(st.position());
+    const std::int32_t* ph = st.data(st.phase());
+    for (Index i = 0; i < st.realCount(); ++i) {
+      if (ph[i] != kPhaseFluid) continue;
+      for (auto q = sim.neighbours.offset[i]; q < sim.neighbours.offset[i + 1]; ++q) {
+        const Index j = sim.neighbours.index[static_cast<size_t>(q)];
+        if (ph[j] != kPhaseSolid) continue;
+        const double d = std::hypot(x[2 * i] - x[2 * j], x[2 * i + 1] - x[2 * j + 1]);
+        o.minGap = std::min(o.minGap, d / sim.spacing);
+      }
+    }
+    if (k == steps) {
+      if (side)
+        for (Index i = 0; i < st.realCount(); ++i)
+          if (ph[i] == kPhaseFluid && start[static_cast<size_t>(st.data(st.id())[i])] != 0 &&
+              side(x + 2 * i) != start[static_cast<size_t>(st.data(st.id())[i])])
+            ++o.crossings;
+      o.issues = health.check(sim);
+    }
+  }
+  o.time = sim.time;
+  return o;
+}
+
+std::string droplet(double young, double solidDensity) {
+  std::ostringstream s;
+  s << R"(dimension: 2
+domain: {lo: [-0.02, -0.02], hi: [0.04, 0.02]}
+spacing: 0.001
+kernel: wendland_c2
+end_time: 1.0
+time_step: {adaptive: true, cfl: 0.5}
+output: {every_steps: 1000}
+materials:
+  - {name: water, model: fluid, density: 1000, sound_speed: 20, viscosity: 1.0e-3}
+  - {name: block, model: elastic, density: )"
+    << solidDensity << ", young_modulus: " << young << R"(, poisson_ratio: 0.25}
+geometry:
+  - {shape: box, lo: [0.0, -0.01], hi: [0.01, 0.01], material: block}
+  - {shape: sphere, centre: [-0.0045, 0], radius: 0.004, material: water, velocity: [1.0, 0]}
+fluid: {artificial_viscosity: 0.1}
+)";  // the droplet starts in contact: the stiffest block's step covers only ~0.3 ms
+  return s.str();
+}
+
+
+}  // namespace
+
+TEST(CouplingExtreme, StiffnessRatioOneToTenThousand) {
+  const double Kf = 1000.0 * 20.0 * 20.0;  // water bulk modulus rho c^2
+  for (double ratio : {1.0, 100.0, 1.0e4}) {
+    SCOPED_TRACE(ratio);
+    const double E = 3.0 * (1.0 - 2.0 * 0.25) * ratio * Kf;  // K_s = E / (3 (1 - 2 nu))
+    // The block moves off when hit, so a plane does not separate the phases: penetration is
+    // measured as the closest fluid-solid pair (lattice start: 1 dx).
+    const Outcome o = run(droplet(E, 2000.0), 3000);
+    std::printf("  K_s / K_f = %g: %.4f s simulated, closest fluid-solid pair %.2f dx\n", ratio,
+                o.time, o.minGap);
+    EXPECT_GT(o.minGap, 0.3);
+    for (const auto& i : o.issues) ADD_FAILURE() << i.check << " " << i.value;
+  }
+}
+
+TEST(CouplingExtreme, HeavySolidInGasDensityRatio1e4) {
+  // A disc of density 1e4 moving at 2 m/s through gas of density 1 (sound speed 20 m/s).
+  const std::string text = R"(dimension: 2
+domain: {lo: [0, 0], hi: [0.04, 0.02], periodic: [true, true]}
+spacing: 0.001
+kernel: wendland_c2
+end_time: 1.0
+time_step: {adaptive: true, cfl: 0.5}
+output: {every_steps: 1000}
+materials:
+  - {name: gas, model: fluid, density: 1, sound_speed: 20, viscosity: 1.0e-5}
+  - {name: grain, model: elastic, density: 1.0e4, young_modulus: 1.0e7, poisson_ratio: 0.25, formulation: small_strain_stress}
+geometry:
+  - {shape: box, lo: [0, 0], hi: [0.04, 0.02], material: gas}
+  - {shape: sphere, centre: [0.01, 0.01], radius: 0.004, material: grain, velocity: [2.0, 0]}
+fluid: {artificial_viscosity: 0.1}
+)";
+  const Outcome o = run(text, 3000);
+  std::printf("  solid/gas density 1e4: %.4f s, closest pair %.2f dx\n", o.time, o.minGap);
+  EXPECT_GT(o.minGap, 0.3);
+  for (const auto& i : o.issues) ADD_FAILURE() << i.check << " " << i.value;
+}
+
+TEST(CouplingExtreme, SolidOneParticleThickBetweenTwoWaters) {
+  // A membrane of one particle layer (small-strain stress form) with water on both sides,
+  // pushed by a pressure difference (more water pressure below through the background pressure).
+  const std::string text = R"(dimension: 2
+domain: {lo: [0, 0], hi: [0.02, 0.02], periodic: [true, false]}
+spacing: 0.001
+kernel: wendland_c2
+end_time: 1.0
+time_step: {adaptive: true, cfl: 0.5}
+output: {every_steps: 1000}
+materials:
+  - {name: below, model: fluid, density: 1000, sound_speed: 10, viscosity: 1.0e-3, background_pressure: 100}
+  - {name: above, model: fluid, density: 1000, sound_speed: 10, viscosity: 1.0e-3}
+  - {name: membrane, model: elastic, density: 2000, young_modulus: 1.0e6, poisson_ratio: 0.25, formulation: small_strain_stress}
+geometry:
+  - {shape: box, lo: [0, 0], hi: [0.02, 0.01], material: below}
+  - {shape: box, lo: [0, 0.011], hi: [0.02, 0.02], material: above}
+  - {shape: box, lo: [0, 0.01], hi: [0.02, 0.011], material: membrane}
+fluid: {artificial_viscosity: 0.1}
+)";
+  const Outcome o = run(text, 2000, [](const double* x) { return x[1] < 0.0105 ? -1 : 1; });
+  std::printf("  one-layer membrane: %.4f s, closest pair %.2f dx, %lld crossings\n", o.time,
+              o.minGap, static_cast<long long>(o.crossings));
+  EXPECT_EQ(o.crossings, 0);
+  EXPECT_GT(o.minGap, 0.3);
+}
+
+TEST(CouplingExtreme, FluidSqueezedBetweenTwoSolids) {
+  // Two blocks closing a one-particle water gap at 0.5 m/s each.
+  const std::string text = R"(dimension: 2
+domain: {lo: [-0.02, -0.02], hi: [0.02, 0.02]}
+spacing: 0.001
+kernel: wendland_c2
+end_time: 1.0
+time_step: {adaptive: true, cfl: 0.5}
+output: {every_steps: 1000}
+materials:
+  - {name: water, model: fluid, density: 1000, sound_speed: 10, viscosity: 1.0e-3}
+  - {name: clay, model: elastic, density: 2000, young_modulus: 1.0e6, poisson_ratio: 0.25}
+geometry:
+  - {shape: box, lo: [-0.008, -0.005], hi: [-0.0005, 0.005], material: clay, velocity: [0.5, 0]}
+  - {shape: box, lo: [0.0005, -0.005], hi: [0.008, 0.005], material: clay, velocity: [-0.5, 0]}
+  - {shape: box, lo: [-0.0005, -0.005], hi: [0.0005, 0.005], material: water}
+fluid: {artificial_viscosity: 0.1}
+)";
+  const Outcome o = run(text, 2000);
+  std::printf("  squeezed water layer: %.4f s, closest pair %.2f dx\n", o.time, o.minGap);
+  EXPECT_GT(o.minGap, 0.3);
+}
