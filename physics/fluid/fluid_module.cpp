@@ -197,6 +197,7 @@ void FluidModule::initialise(Simulation& sim) {
       for (int a = 0; a < d; ++a) v[i * d + a] = md.wallVelocity[static_cast<size_t>(a)];
     }
   }
+  checkSoundSpeeds(sim);
   if (hydrostaticInit_ && gNorm > 0.0) initialiseHydrostatic(sim);
   // Moving boundaries (solids, prescribed walls) need their acceleration in the wall pressure.
   movingBoundaries_ = false;
@@ -208,6 +209,73 @@ void FluidModule::initialise(Simulation& sim) {
     if (ph[i] != kPhaseFluid && (rho[i] <= 0.0 || m[i] <= 0.0))
       throw InputError("fluid: boundary particle " + std::to_string(i) +
                        " has no positive density and mass (needed by the extended summation)");
+}
+
+// The weakly compressible model (Eq. 1.4) needs the sound speed well above the flow speed
+// (Mach < 0.1 keeps |rho - rho0| / rho0 ~ Ma^2 < 1 %). The flow speed a scene implies: its
+// initial velocities, the free-fall speed sqrt(2 g H) over the height H of its fluid, and
+// sqrt(2 f L) for a body force f acting over the domain length L. A sound speed below that
+// speed cannot represent the flow at all: refused, naming the material's key; below 10 times
+// it: a warning.
+void FluidModule::checkSoundSpeeds(const Simulation& sim) const {
+  const auto& st = sim.store;
+  const Index n = st.realCount();
+  const int d = dim_;
+  const double* x = st.data(st.position());
+  const double* v = st.data(st.velocity());
+  const std::int32_t* mt = st.data(st.material());
+  double g = 0.0;
+  for (double c : gravity_) g += c * c;
+  g = std::sqrt(g);
+  double fMax = 0.0, length = 0.0;
+  for (const auto& f : bodyForces_) {
+    double f2 = 0.0;
+    for (double c : f.acceleration) f2 += c * c;
+    fMax = std::max(fMax, std::sqrt(f2));
+  }
+  for (int a = 0; a < d; ++a) length = std::max(length, sim.domain.length(a));
+  for (size_t id = 0; id < mat_.size(); ++id) {
+    const MaterialData& md = mat_[id];
+    if (!md.owned || !md.fluid) continue;
+    double v2max = 0.0, lo = 1e300, hi = -1e300;
+    Index count = 0;
+    for (Index i = 0; i < n; ++i) {
+      if (mt[i] != static_cast<std::int32_t>(id)) continue;
+      ++count;
+      double v2 = 0.0, along = 0.0;
+      for (int a = 0; a < d; ++a) {
+        v2 += v[i * d + a] * v[i * d + a];
+        if (g > 0.0) along -= x[i * d + a] * gravity_[static_cast<size_t>(a)] / g;
+      }
+      v2max = std::max(v2max, v2);
+      lo = std::min(lo, along);
+      hi = std::max(hi, along);
+    }
+    if (count == 0) continue;
+    struct Speed { double value; std::string why; };
+    std::vector<Speed> speeds = {{std::sqrt(v2max), "its largest initial velocity"}};
+    if (g > 0.0 && hi > lo)
+      speeds.push_back({std::sqrt(2.0 * g * (hi - lo)),
+                        "sqrt(2 g H), free fall over its height H = " + std::to_string(hi - lo) + " m"});
+    if (fMax > 0.0)
+      speeds.push_back({std::sqrt(2.0 * fMax * length),
+                        "sqrt(2 f L), the body force over the domain length L = " +
+                            std::to_string(length) + " m"});
+    const Speed* top = &speeds[0];
+    for (const auto& sp : speeds)
+      if (sp.value > top->value) top = &sp;
+    if (!(top->value > 0.0)) continue;
+    const ParameterSet& p = sim.materials[id].parameters;
+    std::ostringstream m;
+    m.precision(4);
+    m << "the flow speed this scene implies for '" << sim.materials[id].name << "' is "
+      << top->value << " m/s (" << top->why << "); the weakly compressible model (Eq. 1.4) needs "
+      << "sound_speed >= 10 x that, " << 10.0 * top->value << " m/s";
+    if (md.soundSpeed < top->value) p.fail("sound_speed", "is below it: " + m.str());
+    if (md.soundSpeed < 10.0 * top->value)
+      std::fprintf(stderr, "warning: %s: sound_speed %g m/s: %s\n", p.where("sound_speed").c_str(),
+                   md.soundSpeed, m.str().c_str());
+  }
 }
 
 // Hydrostatic initial state, dp/dz = -rho0(z) |g| integrated down every vertical column of fluid

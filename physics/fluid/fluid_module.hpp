@@ -98,6 +98,9 @@ class FluidModule : public Module {
 
  private:
   void initialiseHydrostatic(Simulation& sim);
+  /// Refuses a sound speed below the flow speed the scene implies (InputError naming the key),
+  /// warns below 10 x that.
+  void checkSoundSpeeds(const Simulation& sim) const;
   template <int D> void kinematicsD(Simulation& sim);
   template <int D> void constitutiveD(Simulation& sim);
   template <int D> void forcesD(Simulation& sim);

@@ -169,10 +169,11 @@ Interrupted runThenInterrupt(const fs::path& dir, const std::vector<std::string>
 
 }  // namespace
 
-// A water column whose sound speed is far too low for its height (g H / c^2 = 0.78): the old
-// loop ran it to end_time with a density variation of tens of percent and said "finished".
+// A water column whose sound speed is far too low for its height (g H / c^2 = 0.4; c is above
+// the free-fall speed 0.63 m/s, so the scene is accepted with a warning): the old loop ran such
+// a run to end_time with a density variation of tens of percent and said "finished".
 TEST(Health, CompressibleBlowUpStopsWithTheCheckNamedAndAHealthyState) {
-  Scene s = load("low_c.yaml", waterColumn(0.5, "", 0.5));
+  Scene s = load("low_c.yaml", waterColumn(0.7, "", 0.5));
   const RunResult r = runScene(s, quiet("low_c"));
   ASSERT_EQ(r.status, RunStatus::Failed) << "the run ended " << r.time << " s";
   EXPECT_NE(r.message.find("health check 'density_variation'"), std::string::npos) << r.message;
@@ -183,7 +184,7 @@ TEST(Health, CompressibleBlowUpStopsWithTheCheckNamedAndAHealthyState) {
   HealthMonitor monitor(s.health);
   monitor.start(*s.sim, s.initialStableTimeStep);
   EXPECT_TRUE(monitor.check(*s.sim).empty());
-  Scene again = load("low_c.yaml", waterColumn(0.5, "", 0.5));
+  Scene again = load("low_c.yaml", waterColumn(0.7, "", 0.5));
   readCheckpoint(*again.sim, r.checkpoint, sceneSignature(again));
   again.sim->evaluateRates();
   HealthMonitor m2(again.health);
@@ -193,7 +194,7 @@ TEST(Health, CompressibleBlowUpStopsWithTheCheckNamedAndAHealthyState) {
 
 // The same scene with keep_going runs to its end and warns.
 TEST(Health, KeepGoingTurnsTheStopIntoAWarning) {
-  Scene s = load("low_c_keep.yaml", waterColumn(0.5, "", 0.05) + "health: {keep_going: true}\n");
+  Scene s = load("low_c_keep.yaml", waterColumn(0.7, "", 0.1) + "health: {keep_going: true}\n");
   std::ostringstream log;
   RunOptions o = quiet("low_c_keep");
   o.progress = &log;
@@ -205,21 +206,43 @@ TEST(Health, KeepGoingTurnsTheStopIntoAWarning) {
 }
 
 TEST(Health, InitialStatesThatFailAreBadInput) {
-  // A velocity of 1e30 m/s: the adaptive step is ~1e-34 s and the old loop never ended.
-  Scene fast = load("fast.yaml", waterColumn(5.0, "  hydrostatic_level: 0.02\n", 0.1,
-                                            ", velocity: [1.0e30, 0]"));
+  // A velocity of 1e30 m/s: the adaptive step was ~1e-34 s and the old loop never ended. Now
+  // the sound speed check refuses it at load (c far below the flow speed).
   try {
-    runScene(fast, quiet("fast"));
+    load("fast.yaml", waterColumn(5.0, "  hydrostatic_level: 0.02\n", 0.1, ", velocity: [1.0e30, 0]"));
     FAIL() << "expected InputError";
   } catch (const InputError& e) {
     const std::string m = e.what();
     EXPECT_NE(m.find("fast.yaml"), std::string::npos) << m;
+    EXPECT_NE(m.find("sound_speed"), std::string::npos) << m;
+  }
+  // 4 m/s with c = 5 m/s is accepted (with a warning) but Mach 0.8 fails the initial check.
+  Scene fast = load("mach.yaml", waterColumn(5.0, "  hydrostatic_level: 0.02\n", 0.1,
+                                            ", velocity: [4.0, 0]"));
+  try {
+    runScene(fast, quiet("mach"));
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("mach.yaml"), std::string::npos) << m;
     EXPECT_NE(m.find("'max_mach'"), std::string::npos) << m;
     EXPECT_NE(m.find("health.max_mach"), std::string::npos) << m;
   }
-  // A hydrostatic start with c = 0.1 m/s compresses the bottom by a factor ~20.
-  Scene slow = load("slow.yaml", waterColumn(0.1, "  hydrostatic_level: 0.02\n", 0.1));
+  // A hydrostatic start with c = 1 m/s compresses the bottom by 20 %: accepted (c is above the
+  // free-fall speed, with a warning), refused by the density check of the initial state.
+  Scene slow = load("slow.yaml", waterColumn(1.0, "  hydrostatic_level: 0.02\n", 0.1));
   EXPECT_THROW(checkInitialHealth(slow, "slow.yaml"), InputError);
+  // c = 0.1 m/s is below the free-fall speed sqrt(2 g H) = 0.63 m/s: refused at load, naming
+  // the material's key.
+  try {
+    load("slower.yaml", waterColumn(0.1, "  hydrostatic_level: 0.02\n", 0.1));
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("slower.yaml"), std::string::npos) << m;
+    EXPECT_NE(m.find("materials[0].sound_speed"), std::string::npos) << m;
+    EXPECT_NE(m.find("sqrt(2 g H)"), std::string::npos) << m;
+  }
 }
 
 TEST(Health, EachCheckFiresOnItsOwnFault) {
