@@ -4,7 +4,7 @@
 // under the equivalent uniform traction. Shared by test_coupling_plate.cpp (coarse, default
 // suite) and test_coupling_plate_long.cpp (label validation_long).
 //
-// Set-up (all SI, 2D plane strain): water 1 m x 2 m (rho 1000, c = 62.6 m/s = 10 sqrt(2 g H)),
+// Set-up (all SI, 2D plane strain): water 1 m x 2 m (rho 1000, c = 63 m/s, just above 10 sqrt(2 g H)),
 // aluminium plate L = 1 m, t = 0.05 m, E = 67.5 GPa, nu = 0.34, under it, mirror-clamped at
 // x = 0 and x = L (6 layers, > two kernel supports, under the side walls). The side walls are
 // clamped elastic particles (a fluid `wall` material cannot sit in a scene with solid particles:
@@ -68,7 +68,7 @@ inline std::string plateScene(int across, double endTime, bool water, double hOv
     << "spacing: " << num(dx) << "\nh_over_dx: " << hOverDx << "\nkernel: wendland_c2\n"
     << "integrator: leapfrog\nend_time: " << endTime << "\n"
     << "time_step: {adaptive: true, cfl: 0.9}\noutput: {every_time: 0.05}\nmaterials:\n"
-    << "  - {name: water, model: fluid, density: 1000, sound_speed: 62.6, viscosity: 1.0e-3}\n"
+    << "  - {name: water, model: fluid, density: 1000, sound_speed: 63, viscosity: 1.0e-3}\n"
     << "  - {name: tank, model: elastic, density: " << rhoS
     << ", young_modulus: 67.5e9, poisson_ratio: 0.34, plane: strain}\n"
     << "  - {name: plate, model: elastic, density: " << rhoS
