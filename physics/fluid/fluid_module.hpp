@@ -89,8 +89,9 @@ class FluidModule : public Module {
   // field handles
   RealField pressure, densityRate, colour, colourGradient, curvature, wallVelocity;
   /// Viscous lattice normalisation factor D / sum_b V_b r^2 (-F) of each fluid particle (1 where
-  /// the support is truncated); registered only with viscosity_normalisation on.
-  RealField viscousFactor;
+  /// the support is truncated), of the previous evaluation (summed in the force loop into
+  /// viscous_factor_next); registered only with viscosity_normalisation on.
+  RealField viscousFactor, viscousFactorNext;
   /// Position correction: XSPH (2.66) plus particle shifting, a second rate of the positions;
   /// registered only with xsph > 0 or shifting > 0.
   RealField positionCorrection;
@@ -130,6 +131,7 @@ class FluidModule : public Module {
   double maxVariation_ = 0.0;
   double lastWarned_ = 0.0;
   long long boundExceeded_ = 0;
+  bool viscousFactorsReady_ = false;  // viscous_factor computed once (first evaluation)
   bool movingBoundaries_ = false;   // a non-fluid particle that is not fixed (initialise)
   RealField boundaryAcceleration_;  // Simulation::previousAcceleration, when moving boundaries
   int dim_ = 2;
