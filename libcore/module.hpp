@@ -39,6 +39,7 @@ struct Material {
   std::int32_t phase = kPhaseUnset;  ///< libcore/phases.hpp; every particle of it gets this phase
   FluidProperties fluid;             ///< fluids: density, sound speed, EOS, viscosity
   double wettingCos = 0.0;           ///< boundaries (walls, solids, rigid): cos(theta), Eq. 1.10
+  double waveSpeed = 0.0;            ///< solids: elastic wave speed (Eq. 2.50), for contacts
 };
 
 class Module {

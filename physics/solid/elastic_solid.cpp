@@ -127,6 +127,7 @@ void ElasticSolidModule::configure(Simulation& sim, const std::vector<const Mate
              "nu <= 0.25 (3D, plane strain) or nu <= 1/3 (plane stress). Use formulation "
              "small_strain_stress or total_lagrangian for this material");
     e.waveSpeed = std::sqrt((e.lambda + 2.0 * e.mu) / e.density);
+    sim.materials[static_cast<size_t>(m->id)].waveSpeed = e.waveSpeed;  // for contact pairs
     if (static_cast<size_t>(m->id) >= slot_.size()) slot_.resize(static_cast<size_t>(m->id) + 1, -1);
     slot_[static_cast<size_t>(m->id)] = static_cast<int>(mats_.size());
     mats_.push_back(e);

@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
+#include "libcore/integrator.hpp"
 #include "libcore/scene.hpp"
 
 using namespace poresph;
@@ -58,17 +60,70 @@ TEST(PairClasses, CouplingIsAddedWhereFluidAndSolidMeetOnly) {
   EXPECT_EQ(unused.sim->module("coupling"), nullptr);
 }
 
+namespace {
+// A module of "rigid" test bodies that owns only rigid-rigid pairs: next to water, the
+// fluid-rigid pairs have no owner.
+class RigidProbe : public Module {
+ public:
+  std::string name() const override { return "rigid_probe"; }
+  std::vector<std::string> materialModels() const override { return {"rigid_probe_body"}; }
+  std::vector<PairClass> ownedPairs() const override {
+    return {PairClass(kPhaseRigid, kPhaseRigid)};
+  }
+  void configure(Simulation& sim, const std::vector<const Material*>& materials,
+                 const ParameterSet*) override {
+    for (const Material* m : materials) {
+      m->parameters.real("density", Range::positive());
+      m->parameters.finish();
+      sim.materials[static_cast<size_t>(m->id)].phase = kPhaseRigid;
+    }
+  }
+};
+PORESPH_REGISTER_MODULE(RigidProbe, "rigid_probe")
+}  // namespace
+
 TEST(PairClasses, AClassWithoutOwnerIsRefused) {
-  // A solid touching fixed wall particles: nobody applies solid-wall forces.
   const std::string m = message([] {
-    loadSceneText(scene(kClay + "  - {name: steel, model: wall, density: 7800}\n",
-                        "  - {shape: box, lo: [0, 0], hi: [0.02, 0.003], material: steel}\n"
-                        "  - {shape: box, lo: [0, 0.003], hi: [0.02, 0.02], material: clay}\n"),
-                  "solid_wall.yaml");
+    loadSceneText(scene(kWater + "  - {name: grain, model: rigid_probe_body, density: 2650}\n",
+                        "  - {shape: box, lo: [0, 0], hi: [0.02, 0.01], material: grain}\n"
+                        "  - {shape: box, lo: [0, 0.01], hi: [0.02, 0.02], material: water}\n"),
+                  "fluid_rigid.yaml");
   });
-  EXPECT_NE(m.find("solid_wall.yaml"), std::string::npos) << m;
-  EXPECT_NE(m.find("wall and solid particles"), std::string::npos) << m;
-  EXPECT_NE(m.find("wall-solid pair forces"), std::string::npos) << m;
+  EXPECT_NE(m.find("fluid_rigid.yaml"), std::string::npos) << m;
+  EXPECT_NE(m.find("fluid and rigid particles"), std::string::npos) << m;
+  EXPECT_NE(m.find("fluid-rigid pair forces"), std::string::npos) << m;
+}
+
+// A solid next to fixed wall particles gets the contact module (Eq. A.18 repulsion): a block
+// thrown at a wall bounces off without entering it.
+TEST(PairClasses, SolidBouncesOffAWall) {
+  std::string text = scene(kClay + "  - {name: steel, model: wall, density: 7800}\n",
+                           "  - {shape: box, lo: [0, 0], hi: [0.003, 0.02], material: steel}\n"
+                           "  - {shape: box, lo: [0.004, 0.006], hi: [0.012, 0.014], "
+                           "material: clay, velocity: [-2.0, 0]}\n");
+  text.replace(text.find("end_time: 0.001"), 15, "end_time: 0.003");
+  Scene s = loadSceneText(text, "bounce.yaml");
+  Simulation& sim = *s.sim;
+  ASSERT_NE(sim.module("contact"), nullptr);
+  ParticleStore& st = sim.store;
+  auto integrator = makeIntegrator("leapfrog");
+  double closest = 1e300;
+  while (!s.finished()) {
+    integrator->step(sim, s.nextTimeStep());
+    for (Index i = 0; i < st.realCount(); ++i) {
+      if (st.data(st.phase())[i] != kPhaseSolid) continue;
+      closest = std::min(closest, (st.data(st.position())[2 * i] - 0.0025) / 0.001);
+    }
+  }
+  double momentum = 0.0;
+  for (Index i = 0; i < st.realCount(); ++i)
+    if (st.data(st.phase())[i] == kPhaseSolid)
+      momentum += st.data(st.mass())[i] * st.data(st.velocity())[2 * i];
+  std::printf("  closest solid particle to the wall's last layer: %.2f dx; block momentum after "
+              "%.4f s: %.3g (was %.3g)\n",
+              closest, sim.time, momentum, -2.0 * 2000.0 * 0.008 * 0.008);
+  EXPECT_GT(closest, 0.5);    // never closer than half a spacing to the wall particles
+  EXPECT_GT(momentum, 0.0);   // it came back
 }
 
 namespace {
