@@ -1,5 +1,5 @@
 // Elastic solid module: see elastic_solid.hpp and docs/solid.md. Equation numbers are those of
-// the thesis (/work/shared/seeds/002_*.txt), Chapter 2.4 unless stated otherwise.
+// the thesis (../shared/seeds/002_*.txt from the repository root), Chapter 2.4 unless stated otherwise.
 #include "physics/solid/elastic_solid.hpp"
 
 #include "libcore/artificial_viscosity.hpp"
