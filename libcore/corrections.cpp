@@ -228,9 +228,8 @@ void computeVolumes(const ParticleStore& store, std::vector<double>& volume) {
                          " is not positive (" + std::to_string(rho[bad]) + ")");
 }
 
-CorrectionStats updateCorrection(Simulation& sim, const CorrectionFields& fields,
+CorrectionStats updateCorrection(Simulation& sim, Correction type, const CorrectionFields& fields,
                                  std::vector<double>& volumeScratch) {
-  const Correction type = parseCorrection(sim.correction, "key 'correction'");
   computeVolumes(sim.store, volumeScratch);
   return computeCorrection(sim.dimension(), type, sim.kernel,
                            sim.store.data(sim.store.position()), volumeScratch.data(),

@@ -1,7 +1,8 @@
 #pragma once
 // Kernel and kernel-gradient corrections (thesis Sec. 2.3, Eqs. 2.51-2.63).
 //
-// A correction is selected by name (scene key `correction:`, Simulation::correction):
+// A correction is selected by name (parseCorrection; a module chooses the one it uses: the solid
+// uses 2.63b; there is no scene-level key):
 //
 //   name                      kernel W~_ab            gradient used for grad~ W~_ab
 //   "none"                    W_ab                    grad W_ab                          (2.36)
@@ -209,9 +210,9 @@ CorrectionStats computeCorrection(int dim, Correction type, const Kernel& kernel
 /// (resized; no allocation once large enough). Throws NumericalError on rho <= 0.
 void computeVolumes(const ParticleStore& store, std::vector<double>& volume);
 
-/// Convenience for modules: computes the state of sim.correction (parsed) at the store's current
-/// positions with V = m / rho and sim.neighbours into `fields`; returns the stats.
-CorrectionStats updateCorrection(Simulation& sim, const CorrectionFields& fields,
+/// Convenience for modules: computes correction `type` at the store's current positions with
+/// V = m / rho and sim.neighbours into `fields`; returns the stats.
+CorrectionStats updateCorrection(Simulation& sim, Correction type, const CorrectionFields& fields,
                                  std::vector<double>& volumeScratch);
 
 }  // namespace poresph

@@ -40,7 +40,6 @@ class Simulation {
   Domain domain;
   Kernel kernel;
   double spacing = 0.0;           ///< initial particle spacing dx
-  std::string correction = "none";///< kernel/gradient correction selected by the scene (operators.hpp)
   double time = 0.0;
   double dt = 0.0;
   Index step = 0;

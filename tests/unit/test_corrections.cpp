@@ -204,7 +204,6 @@ TEST(Corrections, CoplanarNeighboursIn3DFallBack) {
 TEST(Corrections, StoreFieldsAreNotOutputAndFollowPermutation) {
   Simulation sim(2);
   sim.kernel = Kernel(KernelType::CubicSpline, 2, 0.13);
-  sim.correction = "mixed_2.63b";
   const ParticleBlock b = makeBlock(2, 6, 0.1, 0.0, 0.2);
   sim.store.addParticles(b.count());
   double* x = sim.store.data(sim.store.position());
@@ -222,7 +221,7 @@ TEST(Corrections, StoreFieldsAreNotOutputAndFollowPermutation) {
   EXPECT_EQ(sim.store.spec(f.matrix.id).flags & kFieldOutput, 0u);
   EXPECT_TRUE(sim.store.has("correction_matrix"));
   std::vector<double> vol;
-  const CorrectionStats st = updateCorrection(sim, f, vol);
+  const CorrectionStats st = updateCorrection(sim, parseCorrection("mixed_2.63b", "test"), f, vol);
   EXPECT_EQ(st.fallbacks, 0);
   EXPECT_NEAR(vol[0], 0.01, 1e-15);
   const Mat<2> K0 = sim.store.mat<2>(f.matrix, 0);
@@ -232,7 +231,6 @@ TEST(Corrections, StoreFieldsAreNotOutputAndFollowPermutation) {
   sim.store.permute(order);
   EXPECT_TRUE((sim.store.mat<2>(f.matrix, b.count() - 1) - K0).isZero(0.0));
   EXPECT_EQ(sim.store.data(f.shepardSum)[b.count() - 1], S0);
-  // An unknown scene name is an InputError naming the key.
-  sim.correction = "bogus";
-  EXPECT_THROW(updateCorrection(sim, f, vol), InputError);
+  // An unknown name is an InputError naming where it came from.
+  EXPECT_THROW(parseCorrection("bogus", "key 'x'"), InputError);
 }
