@@ -36,6 +36,7 @@ struct Material {
   std::string model;       ///< model name (e.g. "fluid", "elastic", "wall")
   ParameterSet parameters; ///< the material's mapping; the owning module reads and checks it
   /// Set by the owning module in configure(); what other modules may read (libcore only):
+  double density = 0.0;              ///< rho0 (key `density`, every material has one)
   std::int32_t phase = kPhaseUnset;  ///< libcore/phases.hpp; every particle of it gets this phase
   FluidProperties fluid;             ///< fluids: density, sound speed, EOS, viscosity
   double wettingCos = 0.0;           ///< boundaries (walls, solids, rigid): cos(theta), Eq. 1.10

@@ -240,6 +240,7 @@ Scene buildScene(const YAML::Node& root, const std::string& file, const SceneOpt
                             ")");
       }
       rho0.push_back(m.real("density", Range::positive()));
+      mat.density = rho0.back();
       mat.parameters = m;
       if (!materialsOf.count(owner)) moduleOrder.push_back(owner);
       materialsOf[owner].push_back(mat.id);

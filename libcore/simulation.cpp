@@ -32,6 +32,8 @@ const Material& Simulation::addMaterial(const std::string& name, const std::stri
   m.name = name;
   m.model = model;
   m.parameters = ParameterSet(YAML::Load(yamlMapping), origin, "materials[" + std::to_string(m.id) + "]");
+  // The owning module range-checks it in configure() (with the file and key in its message).
+  if (m.parameters.has("density")) m.density = m.parameters.real("density", Range::any());
   materials.push_back(m);
   return materials.back();
 }

@@ -16,11 +16,10 @@ void ContactModule::initialise(Simulation& sim) {
   bulkModulus_.assign(sim.materials.size(), 0.0);
   for (const Material& m : sim.materials) {
     if (m.phase != kPhaseSolid) continue;
-    const double rho0 = m.parameters.real("density", Range::positive());
-    if (!(m.waveSpeed > 0.0))
+    if (!(m.waveSpeed > 0.0) || !(m.density > 0.0))
       throw InputError("contact: solid material '" + m.name +
-                       "' has no elastic wave speed (its module did not set one)");
-    bulkModulus_[static_cast<size_t>(m.id)] = rho0 * m.waveSpeed * m.waveSpeed;  // A.17
+                       "' has no density or elastic wave speed (its module did not set one)");
+    bulkModulus_[static_cast<size_t>(m.id)] = m.density * m.waveSpeed * m.waveSpeed;  // A.17
   }
 }
 
