@@ -7,9 +7,11 @@
 //            background_pressure (Pa, 0), colour (+1 liquid, -1 gas, Eq. 5.6; default +1).
 //   "wall":  fixed boundary particles (phase kPhaseWall, motion fixed): density (kg/m^3),
 //            contact_angle (degrees, 90), velocity (m/s, tangential wall velocity, default 0).
-// Particles of other phases (solid, rigid) are boundaries too: they take part in the fluid sums
-// exactly like walls (extended summation, thesis Sec. 5.1) with their own velocity field; their
-// wetting colour is the field "colour" (0 = 90 degrees unless their module sets it).
+// Pair classes owned here: fluid-fluid and fluid-wall. Particles of other phases (solid, rigid)
+// enter the fluid's kinematic sums (colour, density summation, viscous normalisation) and get
+// the extrapolated boundary pressure and no-slip velocity in the constitutive stage, but their
+// pair forces (and continuity terms) belong to the module that owns that class (fluid-solid:
+// physics/coupling, docs/coupling.md). Their wetting colour is Material::wettingCos.
 //
 // Module section "fluid" (all optional): see docs/fluid.md for the full list.
 //
@@ -100,7 +102,7 @@ class FluidModule : public Module {
  private:
   void initialiseHydrostatic(Simulation& sim);
   /// Refuses a sound speed below the flow speed the scene implies (InputError naming the key),
-  /// warns below 10 x that.
+  /// warns below 3 x that.
   void checkSoundSpeeds(const Simulation& sim) const;
   template <int D> void kinematicsD(Simulation& sim);
   template <int D> void constitutiveD(Simulation& sim);
