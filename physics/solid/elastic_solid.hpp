@@ -18,7 +18,8 @@
 // internal_energy (+ _rate), solid_work (3: boundary work, external work, dissipated) (+ _rate),
 // solid_boundary (int, 1 + index of the boundary condition, 0 = none), solid_boundary_force,
 // solid_mirror_source (int, 1 + id of a layer particle's image; with mirror layers),
-// solid_xsph_velocity (with XSPH: a second rate of `position`);
+// with XSPH the core field position_correction (Simulation::positionCorrection, shared with the
+// fluid);
 // TL: deformation_gradient, first_piola, solid_family (ids), solid_family_count,
 // solid_family_gradient, solid_family_reverse_gradient; small strain: density_rate and the
 // correction state solid_correction_{matrix,shepard_sum,shepard_gradient} (libcore/corrections).

@@ -271,8 +271,11 @@ TEST(Health, EachCheckFiresOnItsOwnFault) {
     x[2 * 7 + 1] = 0.023 + 0.3 * 0.026;  // outside it
     const auto issues = m.check(*s.sim);
     ASSERT_TRUE(hasCheck(issues, "domain_margin"));
-    for (const auto& i : issues)
-      if (i.check == "domain_margin") EXPECT_EQ(i.particle, 7);
+    for (const auto& i : issues) {
+      if (i.check == "domain_margin") {
+        EXPECT_EQ(i.particle, 7);
+      }
+    }
   }
   // A negative density anywhere.
   {
