@@ -82,6 +82,10 @@ void Integrator::finishStep(Simulation& sim, double dt) {
   lastStep_ = sim.step;
   lastTime_ = sim.time;
   lastCount_ = sim.store.realCount();
+  // History variables and self-integrated bodies (Module::endOfStep); a module that moves
+  // particles here invalidates nothing: the next step's evaluation sees the new positions.
+  for (auto& m : sim.modules) m->endOfStep(sim, dt);
+  lastCount_ = sim.store.realCount();
 }
 
 namespace {

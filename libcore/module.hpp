@@ -12,7 +12,8 @@
 //   5. interfaces(): interface conditions between phases (each pair class by one module)
 //   6. constraints(): rigid-body reductions, imposed velocities, fixed particles
 // Then the integrator advances positions, velocities and every (field, rate) pair registered in
-// Simulation::integrated; diagnostics() and output follow.
+// Simulation::integrated; endOfStep() of every module follows (in module order), then health
+// checks, diagnostics() and output.
 #include <functional>
 #include <limits>
 #include <memory>
@@ -66,6 +67,13 @@ class Module {
   virtual void forces(Simulation& sim) {}
   virtual void interfaces(Simulation& sim) {}
   virtual void constraints(Simulation& sim) {}
+
+  /// Once per completed step, after the integrator advanced every field and sim.time/sim.step
+  /// (Integrator::finishStep): commit history variables (damage D^{n+1} from the new strain,
+  /// irreversibility), place particles of bodies whose motion the module integrates itself
+  /// (rigid bodies), update controlled boundaries. Not called during the rate evaluations of a
+  /// multi-stage step, so state changed here is seen by the next step's first evaluation.
+  virtual void endOfStep(Simulation& sim, double dt) {}
 
   /// Largest stable time step of this module (CFL conditions, Eqs. 2.49-2.50).
   virtual double timeStepLimit(const Simulation& sim) const {
