@@ -5,6 +5,7 @@
 //                     hash of the scene's physics and geometry, compared on restart)
 //   /fields/<name>    one dataset per kFieldCheckpoint field: [particle_count, components],
 //                     IEEE float64 little endian or int32 little endian
+//   /modules/<module>/<entry>  Module::saveState of each module that has one: 1D float64
 #include "libcore/checkpoint.hpp"
 
 #include <hdf5.h>
@@ -79,6 +80,67 @@ herr_t collectName(hid_t, const char* name, const H5L_info_t*, void* out) {
   return 0;
 }
 
+void writeModuleStates(const Simulation& sim, hid_t file, const std::string& path) {
+  bool any = false;
+  for (const auto& m : sim.modules) any = any || !m->saveState().empty();
+  if (!any) return;
+  Handle modules(H5Gcreate2(file, "modules", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
+  if (modules < 0) fail(path, "cannot create group 'modules'");
+  for (const auto& m : sim.modules) {
+    const ModuleState state = m->saveState();
+    if (state.empty()) continue;
+    Handle group(H5Gcreate2(modules, m->name().c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                 H5Gclose);
+    if (group < 0) fail(path, "cannot create group 'modules/" + m->name() + "'");
+    for (const auto& [name, values] : state) {
+      const hsize_t n = values.size();
+      Handle space(H5Screate_simple(1, &n, nullptr), H5Sclose);
+      Handle set(H5Dcreate2(group, name.c_str(), H5T_IEEE_F64LE, space, H5P_DEFAULT,
+                            H5P_DEFAULT, H5P_DEFAULT),
+                 H5Dclose);
+      if (set < 0 || (n > 0 && H5Dwrite(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT,
+                                        values.data()) < 0))
+        fail(path, "cannot write module state 'modules/" + m->name() + "/" + name + "'");
+    }
+  }
+}
+
+/// Reads every module's state (checked: same entries and lengths as the module's own state)
+/// before anything is restored; returns one state per module (empty for modules without one).
+std::vector<ModuleState> readModuleStates(const Simulation& sim, hid_t file,
+                                          const std::string& path) {
+  std::vector<ModuleState> out;
+  for (const auto& m : sim.modules) {
+    ModuleState expected = m->saveState();
+    if (expected.empty()) {
+      out.emplace_back();
+      continue;
+    }
+    const std::string where = "modules/" + m->name();
+    if (H5Lexists(file, "modules", H5P_DEFAULT) <= 0 ||
+        H5Lexists(file, where.c_str(), H5P_DEFAULT) <= 0)
+      fail(path, "the state of module '" + m->name() + "' (group '" + where +
+                     "') is missing from the file");
+    Handle group(H5Gopen2(file, where.c_str(), H5P_DEFAULT), H5Gclose);
+    for (auto& [name, values] : expected) {
+      if (H5Lexists(group, name.c_str(), H5P_DEFAULT) <= 0)
+        fail(path, "module state '" + where + "/" + name + "' is missing from the file");
+      Handle set(H5Dopen2(group, name.c_str(), H5P_DEFAULT), H5Dclose);
+      Handle space(H5Dget_space(set), H5Sclose);
+      const hssize_t n = H5Sget_simple_extent_npoints(space);
+      if (set < 0 || n != static_cast<hssize_t>(values.size()))
+        fail(path, "module state '" + where + "/" + name + "' has " + std::to_string(n) +
+                       " values in the file but " + std::to_string(values.size()) +
+                       " are expected");
+      if (n > 0 && H5Dread(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT,
+                           values.data()) < 0)
+        fail(path, "cannot read module state '" + where + "/" + name + "'");
+    }
+    out.push_back(std::move(expected));
+  }
+  return out;
+}
+
 }  // namespace
 
 void writeCheckpoint(const Simulation& sim, const std::string& path,
@@ -133,6 +195,7 @@ void writeCheckpoint(const Simulation& sim, const std::string& path,
     }
     if (rc < 0) fail(path, "cannot write field '" + spec.name + "'");
   }
+  writeModuleStates(sim, file, path);
   if (H5Fflush(file, H5F_SCOPE_GLOBAL) < 0) fail(path, "cannot flush the file");
 }
 
@@ -225,6 +288,8 @@ void readCheckpoint(Simulation& sim, const std::string& path,
                      "configured differently?)");
   }
 
+  const std::vector<ModuleState> moduleStates = readModuleStates(sim, file, path);
+
   // ---- restore ----
   s.clearGhosts();
   if (s.realCount() > count) {
@@ -253,6 +318,8 @@ void readCheckpoint(Simulation& sim, const std::string& path,
   sim.domain.lo = lo;
   sim.domain.hi = hi;
   for (int a = 0; a < 3; ++a) sim.domain.periodic[static_cast<size_t>(a)] = periodic[a] != 0;
+  for (size_t k = 0; k < sim.modules.size(); ++k)
+    if (!moduleStates[k].empty()) sim.modules[k]->restoreState(moduleStates[k]);
 }
 
 }  // namespace poresph

@@ -44,6 +44,11 @@ struct Material {
   double waveSpeed = 0.0;            ///< solids: elastic wave speed (Eq. 2.50), for contacts
 };
 
+/// State of a module that is not per particle (rigid-body states, plate positions, the time a
+/// percolation first held): named vectors of numbers, written into checkpoints under
+/// /modules/<module name>/<entry name> and handed back on restart and on the health rollback.
+using ModuleState = std::vector<std::pair<std::string, std::vector<double>>>;
+
 class Module {
  public:
   virtual ~Module() = default;
@@ -74,6 +79,12 @@ class Module {
   /// (rigid bodies), update controlled boundaries. Not called during the rate evaluations of a
   /// multi-stage step, so state changed here is seen by the next step's first evaluation.
   virtual void endOfStep(Simulation& sim, double dt) {}
+
+  /// Non-per-particle state to checkpoint (see ModuleState); empty by default. A module that
+  /// returns entries here receives the same entries, same names and lengths, in restoreState()
+  /// when a checkpoint is read or a failed step is rolled back.
+  virtual ModuleState saveState() const { return {}; }
+  virtual void restoreState(const ModuleState& state) {}
 
   /// Largest stable time step of this module (CFL conditions, Eqs. 2.49-2.50).
   virtual double timeStepLimit(const Simulation& sim) const {

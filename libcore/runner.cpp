@@ -79,6 +79,8 @@ class LastGoodState {
     time_ = sim.time;
     dt_ = sim.dt;
     step_ = sim.step;
+    modules_.resize(sim.modules.size());
+    for (size_t k = 0; k < sim.modules.size(); ++k) modules_[k] = sim.modules[k]->saveState();
     valid_ = true;
   }
   /// Puts the captured state back (ghosts removed). False if the particle count changed.
@@ -101,12 +103,15 @@ class LastGoodState {
     sim.time = time_;
     sim.dt = dt_;
     sim.step = step_;
+    for (size_t k = 0; k < sim.modules.size() && k < modules_.size(); ++k)
+      if (!modules_[k].empty()) sim.modules[k]->restoreState(modules_[k]);
     return true;
   }
 
  private:
   std::vector<std::vector<double>> real_;
   std::vector<std::vector<std::int32_t>> int_;
+  std::vector<ModuleState> modules_;  ///< Module::saveState (rigid bodies, plates, ...)
   Index n_ = 0;
   double time_ = 0.0, dt_ = 0.0;
   Index step_ = 0;

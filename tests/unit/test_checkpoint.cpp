@@ -184,3 +184,60 @@ TEST(Checkpoint, UnwritablePathIsAnInputError) {
 }
 
 }  // namespace
+
+namespace {
+/// A module with state outside the particle arrays (as rigid bodies and plates have).
+class StatefulModule final : public Module {
+ public:
+  std::string name() const override { return "stateful"; }
+  std::vector<std::string> materialModels() const override { return {}; }
+  void configure(Simulation&, const std::vector<const Material*>&, const ParameterSet*) override {}
+  ModuleState saveState() const override { return {{"orientation", q}, {"first_time", {t}}}; }
+  void restoreState(const ModuleState& s) override {
+    for (const auto& [name, v] : s) {
+      if (name == "orientation") q = v;
+      if (name == "first_time") t = v.at(0);
+    }
+  }
+  std::vector<double> q{1.0 / 3.0, -0.25, 1e-300, 7.0};
+  double t = -1.0;
+};
+}  // namespace
+
+TEST(Checkpoint, ModuleStateRoundTripIsBitExact) {
+  auto a = makeSim(3);
+  fill(*a, 5, 1);
+  auto* m = new StatefulModule();
+  m->q = {0.1, std::sqrt(2.0), -1.0 / 7.0, 5e-17};
+  m->t = 2.0 / 3.0;
+  a->addModule(std::unique_ptr<Module>(m));
+  const std::string f = path("module_state.h5");
+  writeCheckpoint(*a, f);
+
+  auto b = makeSim(3);
+  fill(*b, 5, 2);
+  auto* r = new StatefulModule();
+  b->addModule(std::unique_ptr<Module>(r));
+  ASSERT_NE(r->q, m->q);
+  readCheckpoint(*b, f);
+  EXPECT_EQ(r->q, m->q);
+  EXPECT_EQ(r->t, m->t);
+}
+
+TEST(Checkpoint, MissingModuleStateNamesTheModule) {
+  auto a = makeSim(2);
+  fill(*a, 4, 1);
+  const std::string f = path("no_module_state.h5");
+  writeCheckpoint(*a, f);  // written without the module
+  auto b = makeSim(2);
+  fill(*b, 4, 2);
+  b->addModule(std::make_unique<StatefulModule>());
+  try {
+    readCheckpoint(*b, f);
+    FAIL() << "a checkpoint without the module's state was accepted";
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("no_module_state.h5"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("'stateful'"), std::string::npos) << msg;
+  }
+}
