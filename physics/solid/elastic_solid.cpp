@@ -117,8 +117,21 @@ void ElasticSolidModule::configure(Simulation& sim, const std::vector<const Mate
     const double theta = p.real("contact_angle", 90.0, Range::closed(0.0, 180.0));
     sim.materials[static_cast<size_t>(m->id)].wettingCos = std::cos(theta * M_PI / 180.0);
     sim.materials[static_cast<size_t>(m->id)].phase = kPhaseSolid;
+    const bool hasDamage = p.has("damage");
+    const ParameterSet damage = hasDamage ? p.section("damage") : ParameterSet();
     p.finish();
     lameParameters(e.young, e.poisson, dim, pl, e.lambda, e.mu);
+    // constitutive law (physics/solid/constitutive_law.hpp): bulk/deviator split of dimension 3
+    // in 3D and plane strain, 2 in plane stress, 1 in 1D
+    e.law = ConstitutiveLaw(e.young, e.lambda, e.mu,
+                            dim == 3 || (dim == 2 && pl == Plane::Strain) ? 3 : dim);
+    if (hasDamage) {
+      if (form == Formulation::SmallStrainDisplacement)
+        p.fail("damage", "the displacement-based form (Eqs. 2.89-2.90) has no stress to degrade; "
+                         "use formulation total_lagrangian or small_strain_stress with damage");
+      e.law.configureDamage(damage);
+      anyDamage_ = true;
+    }
     if (form == Formulation::SmallStrainDisplacement && e.lambda > e.mu * (1.0 + 1e-12))
       p.fail("poisson_ratio",
              "the displacement-based form (Eqs. 2.89-2.90) is a sum of pair terms whose "
@@ -126,7 +139,7 @@ void ElasticSolidModule::configure(Simulation& sim, const std::vector<const Mate
              "blow up (measured: nu = 0.3 in plane strain diverges within 400 steps); it needs "
              "nu <= 0.25 (3D, plane strain) or nu <= 1/3 (plane stress). Use formulation "
              "small_strain_stress or total_lagrangian for this material");
-    e.waveSpeed = std::sqrt((e.lambda + 2.0 * e.mu) / e.density);
+    e.waveSpeed = std::sqrt(e.law.waveModulus() / e.density);  // 2.50 (bounds damaged states)
     sim.materials[static_cast<size_t>(m->id)].waveSpeed = e.waveSpeed;  // for contact pairs
     if (static_cast<size_t>(m->id) >= slot_.size()) slot_.resize(static_cast<size_t>(m->id) + 1, -1);
     slot_[static_cast<size_t>(m->id)] = static_cast<int>(mats_.size());
@@ -135,6 +148,7 @@ void ElasticSolidModule::configure(Simulation& sim, const std::vector<const Mate
 
   boundaries_.clear();
   anyMirror_ = false;
+  anyPartial_ = false;
   if (section) {
     if (section->has("boundaries")) {
       int k = 0;
@@ -188,6 +202,35 @@ void ElasticSolidModule::configure(Simulation& sim, const std::vector<const Mate
         if (bc.type == BoundaryType::Traction) vec("traction");
         if (bc.type == BoundaryType::Pressure) bc.pressure = b.real("pressure");
         bc.rampTime = b.real("ramp_time", 0.0, Range::nonNegative());
+        if (b.has("components")) {
+          // Per-component imposed motion (a roller: u.e2 imposed, sigma.n.e1 = 0; thesis Eq.
+          // 4.31): only the listed axes are imposed, the others are free.
+          if (bc.type != BoundaryType::Velocity && bc.type != BoundaryType::Displacement)
+            b.fail("components", "only velocity and displacement boundaries impose components "
+                                 "(a roller support is {type: velocity, velocity: [0, 0], "
+                                 "components: [y]})");
+          const YAML::Node list = b.raw("components");
+          if (!list.IsSequence() || list.size() == 0)
+            b.fail("components", "a non-empty list of axes, e.g. [y] or [x, z]");
+          bc.imposed = {false, false, false};
+          for (const auto& item : list) {
+            const std::string axis = item.IsScalar() ? item.as<std::string>() : std::string("?");
+            int a = axis == "x" ? 0 : axis == "y" ? 1 : axis == "z" ? 2 : -1;
+            if (a < 0 || a >= dim)
+              b.fail("components", "'" + axis + "' is not an axis of this " + std::to_string(dim) +
+                                       "D run (use x" + std::string(dim > 1 ? ", y" : "") +
+                                       std::string(dim > 2 ? ", z" : "") + ")");
+            if (bc.imposed[static_cast<size_t>(a)])
+              b.fail("components", "axis '" + axis + "' is listed twice");
+            bc.imposed[static_cast<size_t>(a)] = true;
+          }
+          for (int a = 0; a < dim; ++a)
+            if (!bc.imposed[static_cast<size_t>(a)] && bc.value[static_cast<size_t>(a)] != 0.0)
+              b.fail(bc.type == BoundaryType::Velocity ? "velocity" : "displacement",
+                     "component " + std::to_string(a) + " is free (not in 'components') and must "
+                     "be 0, not " + fmt(bc.value[static_cast<size_t>(a)]));
+          for (int a = 0; a < dim; ++a) bc.partial = bc.partial || !bc.imposed[static_cast<size_t>(a)];
+        }
         if (bc.type == BoundaryType::Displacement && !(bc.rampTime > 0.0))
           b.fail("ramp_time", "an imposed displacement needs ramp_time > 0 (the velocity is "
                               "displacement / ramp_time during the ramp)");
@@ -217,6 +260,7 @@ void ElasticSolidModule::configure(Simulation& sim, const std::vector<const Mate
         if (bc.type == BoundaryType::Symmetry && !bc.mirror)
           b.fail("type", "a symmetry boundary needs its plane: mirror: {point: [..], normal: [..]}");
         b.finish();
+        anyPartial_ = anyPartial_ || bc.partial;
         boundaries_.push_back(bc);
         ++k;
       }
@@ -250,11 +294,16 @@ void ElasticSolidModule::configure(Simulation& sim, const std::vector<const Mate
   bc_ = s.addInt("solid_boundary", 1, kFieldOutput | kFieldCheckpoint, me);
   bcForce_ = s.addReal("solid_boundary_force", dim, kInternal, me);
   if (anyMirror_) mirror_ = s.addInt("solid_mirror_source", 1, kInternal, me);
+  if (anyDamage_) {
+    damage_ = s.addReal("damage", 1, kFieldOutput | kFieldCheckpoint, me);
+    damageReleased_ = s.addReal("damage_dissipation", 1, kFieldCheckpoint, me);
+    bool history = false;
+    for (const auto& e : mats_) history = history || e.law.type == DamageLawType::RankineMohrCoulomb;
+    if (history) damageHistory_ = s.addReal("damage_history", kDamageHistory, kFieldCheckpoint, me);
+  }
   if (formulation_ == Formulation::TotalLagrangian) {
-    if (sim.domain.anyPeriodic())
-      throw InputError(prefix(formulationWhere_) +
-                       "solid module: the total_lagrangian formulation does not support periodic "
-                       "domains (its reference family is not carried across periodic images)");
+    // Periodic domains: the reference families are built with periodic images at initialise()
+    // (minimum-image separations); a period shorter than two supports is refused there.
     defGrad_ = s.addReal("deformation_gradient", dim * dim, kFieldDefault, me);
     piola_ = s.addReal("first_piola", dim * dim, kFieldNone, me);
   } else {
@@ -343,7 +392,9 @@ void ElasticSolidModule::initialiseDim(Simulation& sim) {
         motion[i] = kMotionFixed;  // driven by the module (mirror images) or at rest
         for (int a = 0; a < D; ++a) v[i * D + a] = 0.0;
       } else if (B.type == BoundaryType::Velocity || B.type == BoundaryType::Displacement) {
-        motion[i] = kMotionPrescribed;
+        // all components imposed: prescribed; some free (roller): integrated, the imposed
+        // components are set by constraints()
+        motion[i] = B.partial ? kMotionFree : kMotionPrescribed;
       }
     }
   }
@@ -428,16 +479,61 @@ void ElasticSolidModule::initialiseDim(Simulation& sim) {
   std::vector<double> Xm(static_cast<size_t>(nm * D));
   for (Index k = 0; k < nm; ++k)
     for (int a = 0; a < D; ++a) Xm[static_cast<size_t>(k * D + a)] = X[mine[static_cast<size_t>(k)] * D + a];
+  // Periodic axes: images of the particles within a support of a periodic face (shifted by
+  // +-period, edges and corners included) join the search, so that a reference family crosses
+  // the face; `origin` maps an image back to its particle. Families use minimum-image
+  // separations, which needs a period of at least two supports where a family crosses a face.
+  const double support = sim.kernel.support();
+  std::vector<Index> origin(static_cast<size_t>(nm));
+  for (Index k = 0; k < nm; ++k) origin[static_cast<size_t>(k)] = k;
+  period_ = {0.0, 0.0, 0.0};
+  for (int a = 0; a < D; ++a)
+    if (sim.domain.periodic[static_cast<size_t>(a)]) period_[static_cast<size_t>(a)] = sim.domain.length(a);
+  if (sim.domain.anyPeriodic()) {
+    int shifts = 1;
+    for (int a = 0; a < D; ++a) shifts *= 3;
+    for (Index k = 0; k < nm; ++k)
+      for (int code = 0; code < shifts; ++code) {
+        bool any = false, keep = true;
+        Vec<D> Y = Eigen::Map<const Vec<D>>(Xm.data() + k * D);
+        for (int a = 0, c = code; a < D; ++a, c /= 3) {
+          const int sh = c % 3 - 1;
+          if (sh == 0) continue;
+          const double L = period_[static_cast<size_t>(a)];
+          if (L <= 0.0) { keep = false; break; }
+          any = true;
+          Y[a] += sh * L;
+          if (Y[a] < sim.domain.lo[static_cast<size_t>(a)] - support ||
+              Y[a] > sim.domain.hi[static_cast<size_t>(a)] + support)
+            keep = false;
+        }
+        if (!any || !keep) continue;
+        for (int a = 0; a < D; ++a) Xm.push_back(Y[a]);
+        origin.push_back(k);
+      }
+    const Index images = static_cast<Index>(origin.size()) - nm;
+    for (int a = 0; a < D; ++a)
+      if (images > 0 && period_[static_cast<size_t>(a)] > 0.0 &&
+          period_[static_cast<size_t>(a)] < 2.0 * support)
+        throw InputError(prefix(formulationWhere_) +
+                         "solid module: the total_lagrangian reference families cross a periodic "
+                         "face of axis " + std::to_string(a) + ", whose period " +
+                         fmt(period_[static_cast<size_t>(a)]) + " m is shorter than two kernel "
+                         "supports (" + fmt(2.0 * support) + " m): a family would hold a "
+                         "particle and its own image");
+  }
+  const Index nx = static_cast<Index>(origin.size());
   NeighbourSearch search;
   NeighbourList ref;
-  if (nm > 0) search.build(Xm.data(), D, nm, nm, sim.kernel.support(), ref);
+  if (nm > 0) search.build(Xm.data(), D, nm, nx, support, ref);
   auto volume = [&](Index i) { return m[i] / mats_[static_cast<size_t>(slotOf(mat[i]))].density; };
   const Kernel& W = sim.kernel;
 
   // Corrected reference gradients g_ab = grad~_{a,0} W~_{ab,0} (mixed correction 2.63b, computed
   // by libcore/corrections on the reference positions of the solid particles).
-  std::vector<double> Vm(static_cast<size_t>(nm));
-  for (Index k = 0; k < nm; ++k) Vm[static_cast<size_t>(k)] = volume(mine[static_cast<size_t>(k)]);
+  std::vector<double> Vm(static_cast<size_t>(nx));
+  for (Index k = 0; k < nx; ++k)
+    Vm[static_cast<size_t>(k)] = volume(mine[static_cast<size_t>(origin[static_cast<size_t>(k)])]);
   CorrectionBuffer buffer;
   buffer.resize(D, nm);
   if (nm > 0)
@@ -451,9 +547,10 @@ void ElasticSolidModule::initialiseDim(Simulation& sim) {
     auto& list = pairs[static_cast<size_t>(k)];
     list.reserve(static_cast<size_t>(b1 - b0));
     for (auto p = b0; p < b1; ++p) {
-      const Index kj = ref.index[static_cast<size_t>(p)];
-      const Vec<D> r = Xi - Eigen::Map<const Vec<D>>(Xm.data() + kj * D);
-      list.emplace_back(kj, view.gradient<D>(k, W.gradient<D>(r), W.value(r.norm())));
+      const Index kx = ref.index[static_cast<size_t>(p)];  // a particle or an image
+      const Vec<D> r = Xi - Eigen::Map<const Vec<D>>(Xm.data() + kx * D);
+      list.emplace_back(origin[static_cast<size_t>(kx)],
+                        view.gradient<D>(k, W.gradient<D>(r), W.value(r.norm())));
     }
     std::sort(list.begin(), list.end(),
               [](const auto& a, const auto& b) { return a.first < b.first; });
@@ -726,6 +823,7 @@ void ElasticSolidModule::constitutiveDim(Simulation& sim) {
   const std::int32_t* mat = s.data(s.material());
   double* sig = s.data(stress_);
   double* eps = s.data(strain_);
+  const double* dmg = damage_.valid() ? s.data(damage_) : nullptr;
   if (formulation_ == Formulation::TotalLagrangian) {
     const double* F = s.data(defGrad_);
     double* P = s.data(piola_);
@@ -737,7 +835,8 @@ void ElasticSolidModule::constitutiveDim(Simulation& sim) {
       const ElasticMaterial& e = mats_[static_cast<size_t>(k)];
       const Mat<D> Fi = Eigen::Map<const Mat<D>>(F + i * D * D);
       const Mat<D> E = 0.5 * (Fi.transpose() * Fi - Mat<D>::Identity());  // 2.71
-      const Mat<D> S = isotropicLaw<D>(E, e.lambda, e.mu);                  // 2.73-2.74
+      const Mat<D> S = dmg ? e.law.stress<D>(E, dmg[i])                     // 4.18a
+                           : isotropicLaw<D>(E, e.lambda, e.mu);            // 2.73-2.74
       const Mat<D> Pi = Fi * S;                                             // P = F S
       const double J = Fi.determinant();                                    // 2.78
       Eigen::Map<Mat<D>>(eps + i * D * D) = E;
@@ -752,8 +851,9 @@ void ElasticSolidModule::constitutiveDim(Simulation& sim) {
     const int k = slotOf(mat[i]);
     if (k < 0) continue;
     const ElasticMaterial& e = mats_[static_cast<size_t>(k)];
-    Eigen::Map<Mat<D>>(sig + i * D * D) =
-        isotropicLaw<D>(Eigen::Map<const Mat<D>>(eps + i * D * D), e.lambda, e.mu);  // 2.84
+    const Mat<D> epsi = Eigen::Map<const Mat<D>>(eps + i * D * D);
+    Eigen::Map<Mat<D>>(sig + i * D * D) = dmg ? e.law.stress<D>(epsi, dmg[i])       // 4.18a
+                                              : isotropicLaw<D>(epsi, e.lambda, e.mu);  // 2.84
   }
   if (s.ghostCount() > 0) s.refreshGhosts(stress_);
 }
@@ -1036,6 +1136,7 @@ double ElasticSolidModule::elasticEnergyDim(const Simulation& sim) const {
   const double* eps = s.data(strain_);
   double e = 0.0;
   const std::int32_t* src = anyMirror_ ? s.data(mirror_) : nullptr;
+  const double* dmg = damage_.valid() ? s.data(damage_) : nullptr;
 #pragma omp parallel for schedule(static) reduction(+ : e) if (n > 512)
   for (Index i = 0; i < n; ++i) {
     const int k = slotOf(mat[i]);
@@ -1043,6 +1144,10 @@ double ElasticSolidModule::elasticEnergyDim(const Simulation& sim) const {
     const ElasticMaterial& em = mats_[static_cast<size_t>(k)];
     const Mat<D> E = Eigen::Map<const Mat<D>>(eps + i * D * D);
     // TL: strain = E_GL and S = C0 : E_GL, psi = 1/2 S : E (SVK, Eq. 26 of Chapter 3)
+    if (dmg) {  // Eq. 4.17 (4.26a): g(D) psi+ + psi-
+      e += m[i] / em.density * em.law.energy<D>(E, dmg[i]);
+      continue;
+    }
     const Mat<D> S = isotropicLaw<D>(E, em.lambda, em.mu);
     e += m[i] / em.density * 0.5 * S.cwiseProduct(E).sum();
   }
@@ -1112,7 +1217,13 @@ void ElasticSolidModule::diagnostics(const Simulation& sim,
   columns.emplace_back("solid_external_work", w[1]);
   columns.emplace_back("solid_dissipated_energy", w[2]);
   // constant in time when the bookkeeping closes: kinetic + elastic - work in + dissipated
-  columns.emplace_back("solid_energy_balance", ke + el - w[0] - w[1] + w[2]);
+  const double dd = anyDamage_ ? damageDissipation(sim) : 0.0;
+  if (anyDamage_) {  // docs/damage.md: Eqs. 4.25-4.26b
+    columns.emplace_back("solid_damage_dissipation", dd);
+    columns.emplace_back("solid_damage_dissipation_yc", damageDissipationYc(sim));
+    columns.emplace_back("solid_damage_clipped", static_cast<double>(clippedUpdates_));
+  }
+  columns.emplace_back("solid_energy_balance", ke + el - w[0] - w[1] + w[2] + dd);
 }
 
 void ElasticSolidModule::checkHealth(const Simulation& sim, const HealthLimits& limits,
@@ -1137,6 +1248,23 @@ void ElasticSolidModule::checkHealth(const Simulation& sim, const HealthLimits& 
   if (mach.particle >= 0 && !(mach.value <= limits.maxMach))
     issues.push_back({"max_mach", "velocity", mach.particle, mach.value, limits.maxMach,
                       "|v| / elastic wave speed of a solid particle: the solid has blown up"});
+  if (anyDamage_) {
+    // 0 <= D <= s_l and finite (the commit never lowers D nor passes s_l: a value outside is a
+    // corrupted state)
+    const double* dm = s.data(damage_);
+    MaxAt bad;
+#pragma omp parallel for schedule(static) reduction(maxAt : bad)
+    for (Index i = 0; i < n; ++i) {
+      const int k = slotOf(mat[i]);
+      if (k < 0) continue;
+      const double lim = mats_[static_cast<size_t>(k)].law.limit;
+      const double excess = std::isfinite(dm[i]) ? std::max(dm[i] - lim, -dm[i]) : HUGE_VAL;
+      if (excess > bad.value || (excess == bad.value && i < bad.particle)) bad = MaxAt{excess, i};
+    }
+    if (bad.particle >= 0 && bad.value > 0.0)
+      issues.push_back({"damage", "damage", bad.particle, s.data(damage_)[bad.particle], 0.0,
+                        "damage outside [0, s_l] or not finite: the damage state is corrupted"});
+  }
   if (formulation_ != Formulation::TotalLagrangian || !defGrad_.valid()) return;
   // J = det F <= 0: the particle is inverted (rho = rho0 / J of Eq. 2.79 is meaningless).
   const double* F = s.data(defGrad_);
@@ -1165,6 +1293,7 @@ bool ElasticSolidModule::energyAccount(const Simulation& sim, EnergyAccount& acc
   account.storedRange += el;
   account.workIn += w[0] + w[1];
   account.dissipated += w[2];
+  if (anyDamage_) account.dissipated += damageDissipation(sim);  // energy released by damage
   // A vibration at 1e-3 of the wave speed: growth below it is round-off, not a fault.
   const ParticleStore& s = sim.store;
   const Index n = s.realCount();

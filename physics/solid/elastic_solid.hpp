@@ -32,6 +32,7 @@
 #include "libcore/neighbour_search.hpp"
 #include "libcore/particle_store.hpp"
 #include "libcore/types.hpp"
+#include "physics/solid/constitutive_law.hpp"
 
 namespace poresph {
 
@@ -57,6 +58,9 @@ struct ElasticMaterial {
   double xsph = 0.0;          ///< Eq. 2.66 epsilon
   double damping = 0.0;       ///< viscous damping coefficient c [1/s]: a -= c v
   double hourglass = 0.0;     ///< TL hourglass control coefficient (Ganzenmueller 2015) [-]
+  /// Stress from strain and damage (elastic or an elasto-damage law of Chapter 4, key `damage:`
+  /// of the material; physics/solid/constitutive_law.hpp, docs/damage.md).
+  ConstitutiveLaw law;
 };
 
 /// Lame parameters of the law used in dimension `dim`: 3D and plane strain: the 3D ones;
@@ -77,6 +81,10 @@ struct Boundary {
   std::array<double, 3> shellCentre{0, 0, 0};
   double shellMin = 0.0, shellMax = 0.0;
   std::array<double, 3> value{0, 0, 0};  ///< velocity, displacement or traction vector
+  /// Velocity/displacement only: the components that are imposed (`components: [y]`); the
+  /// others are free (zero traction along them: a roller, thesis Eq. 4.31). All by default.
+  std::array<bool, 3> imposed{true, true, true};
+  bool partial = false;  ///< some component is free (the particles stay kMotionFree)
   double pressure = 0.0;
   double rampTime = 0.0;  ///< linear ramp 0 -> value over rampTime (0: applied at once)
   double area = 0.0;      ///< traction: area per particle [m^(D-1)]; 0: spacing^(D-1)
@@ -99,6 +107,8 @@ class ElasticSolidModule : public Module {
   void constitutive(Simulation& sim) override;
   void forces(Simulation& sim) override;
   void constraints(Simulation& sim) override;
+  /// Damage commit D^{n+1} from the strain at x^{n+1} (only when a material has damage).
+  void endOfStep(Simulation& sim, double dt) override;
   double timeStepLimit(const Simulation& sim) const override;
   /// solid-solid (the fluid-solid pairs belong to the coupling module).
   std::vector<PairClass> ownedPairs() const override {
@@ -129,6 +139,16 @@ class ElasticSolidModule : public Module {
   double elasticTimeStepLimit(const Simulation& sim) const;
   /// Largest reference family (TL) [-].
   int familyCapacity() const { return familyCapacity_; }
+  // ---- damage (docs/damage.md) ----
+  /// True when some material has a `damage:` law (the damage fields exist).
+  bool hasDamage() const { return anyDamage_; }
+  /// Energy released by damage at fixed strain, sum V0 (g(D0) - g(D)) psi+ [J]: the dissipation
+  /// that closes the energy balance.
+  double damageDissipation(const Simulation& sim) const;
+  /// Dissipated energy of Eq. 4.26b with Yc(D): sum V0 int_0^D Yc dD [J] (GSM laws).
+  double damageDissipationYc(const Simulation& sim) const;
+  /// Damage updates the criterion asked to take past s_l (clipped), since the start.
+  long clippedDamageUpdates() const { return clippedUpdates_; }
 
   /// Factor applied to the elastic limit of Eq. 2.50 when a step is checked (1 = the thesis).
   double courant = 1.0;
@@ -140,6 +160,7 @@ class ElasticSolidModule : public Module {
   template <int D> void forcesDim(Simulation& sim);
   template <int D> void constraintsDim(Simulation& sim);
   template <int D> double elasticEnergyDim(const Simulation& sim) const;
+  template <int D> void commitDamageDim(Simulation& sim);
   void rebuildIdMap(const Simulation& sim);
   template <int D> void applyMirrors(Simulation& sim);
   int slotOf(std::int32_t material) const {
@@ -166,7 +187,17 @@ class ElasticSolidModule : public Module {
   bool anyMirror_ = false;
   std::string formulationWhere_;  ///< "file:line: key 'materials[k].formulation'", for messages
   int familyCapacity_ = 0;
+  // damage: D (output), history (Rankine/Mohr-Coulomb equivalent strains), released energy
+  // density; registered only when a material has damage
+  bool anyDamage_ = false;
+  RealField damage_, damageHistory_, damageReleased_;
+  long clippedUpdates_ = 0;
   std::vector<Index> idToIndex_;
+  /// Periods of the periodic axes (0 on the others): TL reference families that cross a
+  /// periodic face use minimum-image separations.
+  std::array<double, 3> period_{0, 0, 0};
+  bool anyPartial_ = false;  ///< some boundary imposes only some components
+  RealField integratorVelocity_;  ///< the integrator's velocity state (partial boundaries)
 };
 
 }  // namespace solid
