@@ -1,0 +1,239 @@
+#include "physics/drainage/drainage_module.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "libcore/phases.hpp"
+#include "libcore/simulation.hpp"
+
+namespace poresph {
+
+namespace {
+
+int materialId(const Simulation& sim, const ParameterSet& s, const std::string& key) {
+  const std::string name = s.string(key);
+  std::vector<std::string> fluids;
+  for (const Material& m : sim.materials) {
+    if (m.phase == kPhaseFluid) fluids.push_back(m.name);
+    if (m.name != name) continue;
+    if (m.phase != kPhaseFluid)
+      s.fail(key, "material '" + name + "' is a " + phaseName(m.phase) +
+                      " material; the invading and defending phases must be fluids");
+    return m.id;
+  }
+  std::string known;
+  for (const auto& f : fluids) known += (known.empty() ? "'" : ", '") + f + "'";
+  const std::string close = closestMatch(name, fluids);
+  s.fail(key, "no material is named '" + name + "'" +
+                  (close.empty() ? " (fluid materials: " + (known.empty() ? "none" : known) + ")"
+                                 : " (did you mean '" + close + "'?)"));
+}
+
+std::int64_t find(std::vector<std::int64_t>& p, std::int64_t i) {
+  while (p[static_cast<size_t>(i)] != i) {
+    p[static_cast<size_t>(i)] = p[static_cast<size_t>(p[static_cast<size_t>(i)])];
+    i = p[static_cast<size_t>(i)];
+  }
+  return i;
+}
+
+}  // namespace
+
+void DrainageModule::configure(Simulation& sim, const std::vector<const Material*>&,
+                               const ParameterSet* section) {
+  if (!section)
+    throw InputError("drainage: the module needs a scene section `drainage:` (invading, "
+                     "defending, sample)");
+  const ParameterSet& s = *section;
+  where_ = s.where("sample");
+  const int d = sim.dimension();
+  std::vector<std::string> axes = {"x", "y", "z"};
+  axes.resize(static_cast<size_t>(d));
+  const std::string axisName = s.choice("axis", axes.back(), axes);
+  axis_ = static_cast<int>(std::find(axes.begin(), axes.end(), axisName) - axes.begin());
+  invading_ = materialId(sim, s, "invading");
+  defending_ = materialId(sim, s, "defending");
+  if (invading_ == defending_)
+    s.fail("defending", "the defending fluid must differ from the invading one ('" +
+                            sim.materials[static_cast<size_t>(invading_)].name + "')");
+  const std::vector<double> slab = s.reals("sample", 2);
+  sampleLo_ = slab[0];
+  sampleHi_ = slab[1];
+  const double lo = sim.domain.lo[static_cast<size_t>(axis_)];
+  const double hi = sim.domain.hi[static_cast<size_t>(axis_)];
+  if (!(sampleLo_ < sampleHi_) || sampleLo_ <= lo || sampleHi_ >= hi)
+    s.fail("sample", "the sample slab [" + std::to_string(sampleLo_) + ", " +
+                         std::to_string(sampleHi_) + "] along " + axisName +
+                         " must be increasing and lie strictly inside the domain (" +
+                         std::to_string(lo) + ", " + std::to_string(hi) +
+                         "), leaving room for the reservoirs on both sides");
+  pressureDrop_ = s.real("pressure_drop", 0.0, Range::nonNegative());
+  const std::string push = s.choice("push", "negative", {"negative", "positive"});
+  linkDistance_ = s.real("link_distance", 1.5, Range::closed(1.0, 2.0));
+  checkEvery_ = s.integer("percolation_every", 10, 1, 1000000);
+  if (pressureDrop_ > 0.0 && !sim.domain.periodic[static_cast<size_t>(axis_)])
+    s.fail("pressure_drop", std::to_string(pressureDrop_) +
+                                ": the body-force pressure drop needs a domain periodic along "
+                                "the flow axis " + axisName + " (domain.periodic)");
+  // f = dP / (rho_g L_r): the gas columns of both reservoirs at rest carry dP (Sec. 5.2).
+  const double reservoirs = (hi - lo) - (sampleHi_ - sampleLo_);
+  const double rho = sim.materials[static_cast<size_t>(invading_)].density;
+  force_ = pressureDrop_ / (rho * reservoirs) * (push == "negative" ? -1.0 : 1.0);
+}
+
+void DrainageModule::initialise(Simulation& sim) {
+  parent_.assign(static_cast<size_t>(sim.store.realCount()), 0);
+}
+
+void DrainageModule::forces(Simulation& sim) {
+  if (force_ == 0.0) return;
+  ParticleStore& st = sim.store;
+  const Index n = st.realCount();
+  const int d = sim.dimension();
+  const double* x = st.data(st.position());
+  const std::int32_t* mt = st.data(st.material());
+  const std::int32_t* mo = st.data(sim.motion);
+  double* acc = st.data(sim.acceleration);
+  const int a = axis_;
+  const double lo = sampleLo_, hi = sampleHi_, f = force_;
+  const std::int32_t inv = invading_;
+#pragma omp parallel for schedule(static)
+  for (Index i = 0; i < n; ++i) {
+    if (mt[i] != inv || mo[i] != kMotionFree) continue;
+    const double s = x[i * d + a];
+    if (s < lo || s > hi) acc[i * d + a] += f;
+  }
+}
+
+bool DrainageModule::percolates(const Simulation& sim) const {
+  const ParticleStore& st = sim.store;
+  const Index n = st.realCount();
+  const int d = sim.dimension();
+  const double* x = st.data(st.position());
+  const std::int32_t* mt = st.data(st.material());
+  const auto& nl = sim.neighbours;
+  if (static_cast<Index>(nl.offset.size()) < n + 1) return false;  // no list built yet
+  parent_.resize(static_cast<size_t>(n));
+  std::iota(parent_.begin(), parent_.end(), std::int64_t{0});
+  const double link2 = std::pow(linkDistance_ * sim.spacing, 2);
+  // Serial union-find over the invading particles' short links (real pairs only: a periodic
+  // image would join the two reservoirs through the periodic face, not through the sample).
+  for (Index i = 0; i < n; ++i) {
+    if (mt[i] != invading_) continue;
+    for (auto q = nl.offset[i]; q < nl.offset[i + 1]; ++q) {
+      const Index j = nl.index[static_cast<size_t>(q)];
+      if (j >= n || j <= i || mt[j] != invading_) continue;
+      double r2 = 0.0;
+      for (int c = 0; c < d; ++c) r2 += std::pow(x[i * d + c] - x[j * d + c], 2);
+      if (r2 > link2) continue;
+      const std::int64_t ri = find(parent_, i), rj = find(parent_, j);
+      if (ri != rj) parent_[static_cast<size_t>(std::max(ri, rj))] = std::min(ri, rj);
+    }
+  }
+  // Roots touching the low reservoir, then any particle of the high reservoir in one of them.
+  std::vector<char> low(static_cast<size_t>(n), 0);
+  for (Index i = 0; i < n; ++i)
+    if (mt[i] == invading_ && x[i * d + axis_] < sampleLo_)
+      low[static_cast<size_t>(find(parent_, i))] = 1;
+  for (Index i = 0; i < n; ++i)
+    if (mt[i] == invading_ && x[i * d + axis_] > sampleHi_ &&
+        low[static_cast<size_t>(find(parent_, i))])
+      return true;
+  return false;
+}
+
+void DrainageModule::endOfStep(Simulation& sim, double) {
+  if (percolationTime_ >= 0.0 || sim.step % checkEvery_ != 0) return;
+  if (percolates(sim)) percolationTime_ = sim.time;
+}
+
+ModuleState DrainageModule::saveState() const {
+  return {{"percolation_time", {percolationTime_}}};
+}
+
+void DrainageModule::restoreState(const ModuleState& state) {
+  for (const auto& [name, v] : state)
+    if (name == "percolation_time" && !v.empty()) percolationTime_ = v[0];
+}
+
+void DrainageModule::diagnostics(const Simulation& sim,
+                                 std::vector<std::pair<std::string, double>>& columns) const {
+  const ParticleStore& st = sim.store;
+  const Index n = st.realCount();
+  const int d = sim.dimension();
+  const double* x = st.data(st.position());
+  const double* m = st.data(st.mass());
+  const double* rho = st.data(st.density());
+  const std::int32_t* mt = st.data(st.material());
+  const std::int32_t* ph = st.data(st.phase());
+  const double* dmg = st.has("damage") ? st.data(st.real("damage")) : nullptr;
+  const double* sig = st.has("stress") && st.components(st.real("stress").id) == d * d
+                          ? st.data(st.real("stress"))
+                          : nullptr;
+  double vInv = 0, vDef = 0, vFluid = 0, vSolid = 0, vDamaged = 0, vStressed = 0, meanStress = 0;
+  double maxDamage = 0, maxPrincipal = -std::numeric_limits<double>::infinity();
+#pragma omp parallel for schedule(static) reduction(+ : vInv, vDef, vFluid, vSolid, vDamaged, \
+    vStressed, meanStress) reduction(max : maxDamage, maxPrincipal)
+  for (Index i = 0; i < n; ++i) {
+    const double s = x[i * d + axis_];
+    if (s < sampleLo_ || s > sampleHi_) continue;
+    const double v = m[i] / rho[i];
+    if (ph[i] == kPhaseFluid) {
+      vFluid += v;
+      if (mt[i] == invading_) vInv += v;
+      if (mt[i] == defending_) vDef += v;
+    } else if (ph[i] == kPhaseSolid || ph[i] == kPhaseRigid) {
+      vSolid += v;
+      if (ph[i] != kPhaseSolid) continue;
+      if (dmg) {
+        maxDamage = std::max(maxDamage, dmg[i]);
+        if (dmg[i] > 0.5) vDamaged += v;
+      }
+      if (sig) {
+        double tr = 0.0, top = 0.0;
+        const double* S = sig + i * d * d;
+        for (int c = 0; c < d; ++c) tr += S[c * d + c];
+        if (d == 1) {
+          top = S[0];
+        } else if (d == 2) {
+          const double c = 0.5 * (S[0] + S[3]), r = std::hypot(0.5 * (S[0] - S[3]), S[1]);
+          top = c + r;
+        } else {
+          Eigen::Matrix3d M;
+          for (int p = 0; p < 3; ++p)
+            for (int q = 0; q < 3; ++q) M(p, q) = 0.5 * (S[p * 3 + q] + S[q * 3 + p]);
+          Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
+          es.computeDirect(M, Eigen::EigenvaluesOnly);
+          top = es.eigenvalues()[2];
+        }
+        vStressed += v;
+        meanStress += v * tr / d;
+        maxPrincipal = std::max(maxPrincipal, top);
+      }
+    }
+  }
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  columns.emplace_back("drainage_porosity", vFluid + vSolid > 0 ? vFluid / (vFluid + vSolid) : nan);
+  columns.emplace_back("drainage_gas_saturation", vFluid > 0 ? vInv / vFluid : nan);
+  columns.emplace_back("drainage_water_saturation", vFluid > 0 ? vDef / vFluid : nan);
+  // endOfStep looks every `percolation_every` steps; an output row looks now, so that a row
+  // never says "not percolated" after a percolation it could see.
+  if (percolationTime_ < 0.0 && percolates(sim)) percolationTime_ = sim.time;
+  columns.emplace_back("drainage_percolated", percolationTime_ >= 0.0 ? 1.0 : 0.0);
+  columns.emplace_back("drainage_percolation_time", percolationTime_);
+  if (dmg) {
+    columns.emplace_back("drainage_damaged_fraction", vSolid > 0 ? vDamaged / vSolid : nan);
+    columns.emplace_back("drainage_max_damage", maxDamage);
+  }
+  if (sig) {
+    columns.emplace_back("drainage_solid_mean_stress", vStressed > 0 ? meanStress / vStressed : nan);
+    columns.emplace_back("drainage_solid_max_principal_stress",
+                         vStressed > 0 ? maxPrincipal : nan);
+  }
+}
+
+PORESPH_REGISTER_MODULE(DrainageModule, "drainage")
+
+}  // namespace poresph

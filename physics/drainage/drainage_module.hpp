@@ -1,0 +1,62 @@
+#pragma once
+// Drainage driver and monitor (module "drainage", scene section `drainage:`; docs/drainage.md).
+//
+// The set-up of the thesis' drainage runs (Sec. 5.2, Fig. 5.3): a sample slab between two
+// reservoirs of the invading fluid (gas) along a periodic flow axis; the pressure drop between
+// the reservoirs is imposed "by means of a body force F_z applied to every gas material point in
+// reservoirs": with the reservoirs of total length L_r along the axis and the gas density rho_g,
+//   f = dP / (rho_g L_r)                                     (per unit mass, along `push`)
+// so that a gas column at rest in the reservoirs carries the pressure difference dP
+// (dp/ds = rho_g f) that the sample then sees between its two faces.
+//
+// What it measures (timeseries.csv columns, all counted in the sample slab, volumes V = m/rho of
+// the current density, so the porosity follows the deformed solid):
+//   drainage_porosity          V_fluid / (V_fluid + V_solid)       (solid + rigid particles)
+//   drainage_gas_saturation    V_invading / V_fluid, drainage_water_saturation V_defending / V_fluid
+//   drainage_percolated        1 once a cluster of invading particles (links shorter than
+//                              `link_distance` x dx, periodic images not used) touches both
+//                              reservoirs, else 0; drainage_percolation_time (-1 before)
+//   drainage_damaged_fraction  solid volume with D > 0.5 / solid volume, drainage_max_damage
+//                              (only when a `damage` field exists)
+//   drainage_solid_mean_stress mean of tr(sigma)/D over the solid (volume weighted) and
+//   drainage_solid_max_principal_stress (only when a `stress` field exists)
+// The percolation time is module state (checkpointed, Module::saveState).
+#include <string>
+#include <vector>
+
+#include "libcore/module.hpp"
+
+namespace poresph {
+
+class DrainageModule : public Module {
+ public:
+  std::string name() const override { return "drainage"; }
+  std::vector<std::string> materialModels() const override { return {}; }
+  void configure(Simulation& sim, const std::vector<const Material*>& materials,
+                 const ParameterSet* section) override;
+  void initialise(Simulation& sim) override;
+  void forces(Simulation& sim) override;
+  void endOfStep(Simulation& sim, double dt) override;
+  ModuleState saveState() const override;
+  void restoreState(const ModuleState& state) override;
+  void diagnostics(const Simulation& sim,
+                   std::vector<std::pair<std::string, double>>& columns) const override;
+
+  /// Body force per unit mass on the invading fluid in the reservoirs (signed along the axis).
+  double bodyForce() const { return force_; }
+  /// True when a cluster of invading particles links the two reservoirs (evaluated now).
+  bool percolates(const Simulation& sim) const;
+  double percolationTime() const { return percolationTime_; }
+
+ private:
+  int axis_ = 0;
+  double sampleLo_ = 0.0, sampleHi_ = 0.0;
+  double pressureDrop_ = 0.0, force_ = 0.0, linkDistance_ = 1.5;
+  int invading_ = -1, defending_ = -1;  // material ids
+  long checkEvery_ = 10;
+  mutable double percolationTime_ = -1.0;  // first time seen (endOfStep or an output row)
+  std::string where_;
+  mutable std::vector<std::int64_t> parent_;  // union-find scratch (sized at initialise)
+};
+
+}  // namespace poresph

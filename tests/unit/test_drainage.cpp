@@ -1,0 +1,174 @@
+// The drainage driver and monitor (physics/drainage, docs/drainage.md): the reservoir body force
+// of Sec. 5.2 (f = dP / (rho_g L_r), on the invading fluid outside the sample slab only), the
+// porosity and saturations of the slab, the percolation flag (a cluster of invading particles
+// linking both reservoirs through the sample, never through the periodic face), its time kept
+// across checkpoints, and the scene errors.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+
+#include "libcore/checkpoint.hpp"
+#include "libcore/scene.hpp"
+#include "physics/drainage/drainage_module.hpp"
+
+using namespace poresph;
+
+namespace {
+
+// 2D, 20 x 30 particles (dx = 1 mm), periodic in both directions. The sample slab is
+// y in [0.01, 0.02]: clay with a vertical channel x in [0.008, 0.012] of water; gas below and
+// above (the reservoirs).
+std::string scene(const std::string& drainage, const std::string& periodic = "[true, true]") {
+  return R"(dimension: 2
+domain: {lo: [0, 0], hi: [0.02, 0.03], periodic: )" +
+         periodic + R"(}
+spacing: 0.001
+kernel: wendland_c2
+end_time: 0.001
+time_step: {adaptive: true}
+output: {every_steps: 10}
+materials:
+  - {name: water, model: fluid, density: 1000, sound_speed: 10, viscosity: 1.0e-3, colour: 1}
+  - {name: gas, model: fluid, density: 10, sound_speed: 10, viscosity: 1.0e-5, colour: -1}
+  - {name: clay, model: elastic, density: 2000, young_modulus: 1.0e6, poisson_ratio: 0.1, formulation: small_strain_stress}
+geometry:
+  - {shape: box, lo: [0, 0], hi: [0.02, 0.03], material: gas}
+  - {shape: box, lo: [0, 0.01], hi: [0.02, 0.02], material: clay}
+  - {shape: box, lo: [0.008, 0.01], hi: [0.012, 0.02], material: water}
+drainage: )" + drainage + "\n";
+}
+
+const std::string kDrainage =
+    "{invading: gas, defending: water, axis: y, sample: [0.01, 0.02], pressure_drop: 0.4}";
+
+std::string message(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+double column(const Simulation& sim, const std::string& name) {
+  for (const auto& [k, v] : sim.diagnostics())
+    if (k == name) return v;
+  ADD_FAILURE() << "no column " << name;
+  return NAN;
+}
+
+DrainageModule& drainage(Scene& s) {
+  auto* m = dynamic_cast<DrainageModule*>(s.sim->module("drainage"));
+  EXPECT_NE(m, nullptr);
+  return *m;
+}
+
+/// Sets every particle of material `from` inside the box to material `to`.
+void recolour(Simulation& sim, int from, int to, double x0, double x1, double y0, double y1) {
+  ParticleStore& st = sim.store;
+  const double* x = st.data(st.position());
+  std::int32_t* mt = st.data(st.material());
+  for (Index i = 0; i < st.realCount(); ++i)
+    if (mt[i] == from && x[2 * i] > x0 && x[2 * i] < x1 && x[2 * i + 1] > y0 &&
+        x[2 * i + 1] < y1)
+      mt[i] = to;
+}
+
+}  // namespace
+
+TEST(Drainage, BodyForceActsOnReservoirGasOnly) {
+  Scene s = loadSceneText(scene(kDrainage), "drainage.yaml");
+  Simulation& sim = *s.sim;
+  DrainageModule& d = drainage(s);
+  // f = dP / (rho_g L_r), L_r = 0.03 - 0.01 = 0.02 m, pushing towards -y by default.
+  EXPECT_NEAR(d.bodyForce(), -0.4 / (10.0 * 0.02), 1e-12);
+  ParticleStore& st = sim.store;
+  const Index n = st.realCount();
+  double* acc = st.data(sim.acceleration);
+  std::fill(acc, acc + 2 * n, 0.0);
+  d.forces(sim);
+  const double* x = st.data(st.position());
+  const std::int32_t* mt = st.data(st.material());
+  Index pushed = 0;
+  for (Index i = 0; i < n; ++i) {
+    const bool reservoirGas = mt[i] == 1 && (x[2 * i + 1] < 0.01 || x[2 * i + 1] > 0.02);
+    EXPECT_EQ(acc[2 * i], 0.0);
+    EXPECT_EQ(acc[2 * i + 1], reservoirGas ? d.bodyForce() : 0.0) << "particle " << i;
+    pushed += reservoirGas;
+  }
+  EXPECT_EQ(pushed, 20 * 20);  // 10 rows below and 10 above the slab, 20 across
+}
+
+TEST(Drainage, PorosityAndSaturationsOfTheSlab) {
+  Scene s = loadSceneText(scene(kDrainage), "drainage.yaml");
+  Simulation& sim = *s.sim;
+  // Equal particle volumes dx^2 at rest: the porosity is the channel's share, 4 of 20 columns.
+  EXPECT_NEAR(column(sim, "drainage_porosity"), 0.2, 1e-12);
+  EXPECT_NEAR(column(sim, "drainage_water_saturation"), 1.0, 1e-12);
+  EXPECT_NEAR(column(sim, "drainage_gas_saturation"), 0.0, 1e-12);
+  // Gas in the lower half of the channel: saturation 1/2 (5 of 10 rows).
+  recolour(sim, 0, 1, 0.0, 1.0, 0.0, 0.015);
+  EXPECT_NEAR(column(sim, "drainage_gas_saturation"), 0.5, 1e-12);
+  EXPECT_NEAR(column(sim, "drainage_water_saturation"), 0.5, 1e-12);
+  // A dilated solid (lower density = larger volume m/rho) lowers the porosity.
+  ParticleStore& st = sim.store;
+  double* rho = st.data(st.density());
+  const std::int32_t* mt = st.data(st.material());
+  for (Index i = 0; i < st.realCount(); ++i)
+    if (mt[i] == 2) rho[i] *= 0.5;
+  EXPECT_NEAR(column(sim, "drainage_porosity"), 40.0 / (40.0 + 2.0 * 160.0), 1e-12);
+}
+
+TEST(Drainage, PercolationNeedsAGasPathThroughTheSample) {
+  Scene s = loadSceneText(scene(kDrainage), "drainage.yaml");
+  Simulation& sim = *s.sim;
+  DrainageModule& d = drainage(s);
+  sim.updateNeighbours();
+  // The reservoirs touch each other through the periodic face: that is not a percolation.
+  EXPECT_FALSE(d.percolates(sim));
+  // Gas in the channel except one row of water: still not percolated.
+  recolour(sim, 0, 1, 0.0, 1.0, 0.0, 0.0149);
+  recolour(sim, 0, 1, 0.0, 1.0, 0.0151 + 0.001, 1.0);
+  EXPECT_FALSE(d.percolates(sim));
+  EXPECT_EQ(column(sim, "drainage_percolated"), 0.0);
+  EXPECT_EQ(column(sim, "drainage_percolation_time"), -1.0);
+  // The last water row replaced: the gas links both reservoirs.
+  recolour(sim, 0, 1, 0.0, 1.0, 0.0, 1.0);
+  EXPECT_TRUE(d.percolates(sim));
+  sim.time = 0.25;
+  EXPECT_EQ(column(sim, "drainage_percolated"), 1.0);
+  EXPECT_EQ(column(sim, "drainage_percolation_time"), 0.25);
+  // The first time is kept (later rows do not move it) and travels with checkpoints.
+  sim.time = 0.5;
+  EXPECT_EQ(column(sim, "drainage_percolation_time"), 0.25);
+  const std::string file = std::string(PORESPH_BINARY_DIR) + "/test-drainage-checkpoint.h5";
+  writeCheckpoint(sim, file);
+  Scene fresh = loadSceneText(scene(kDrainage), "drainage.yaml");
+  EXPECT_EQ(drainage(fresh).percolationTime(), -1.0);
+  readCheckpoint(*fresh.sim, file);
+  EXPECT_EQ(drainage(fresh).percolationTime(), 0.25);
+}
+
+TEST(Drainage, SceneErrorsNameTheKeyAndValue) {
+  auto err = [&](const std::string& sec, const std::string& periodic = "[true, true]") {
+    return message([&] { loadSceneText(scene(sec, periodic), "drainage.yaml"); });
+  };
+  std::string m = err("{invading: gass, defending: water, axis: y, sample: [0.01, 0.02]}");
+  EXPECT_NE(m.find("drainage.invading"), std::string::npos) << m;
+  EXPECT_NE(m.find("did you mean 'gas'"), std::string::npos) << m;
+  m = err("{invading: clay, defending: water, axis: y, sample: [0.01, 0.02]}");
+  EXPECT_NE(m.find("must be fluids"), std::string::npos) << m;
+  m = err("{invading: gas, defending: gas, axis: y, sample: [0.01, 0.02]}");
+  EXPECT_NE(m.find("drainage.defending"), std::string::npos) << m;
+  m = err("{invading: gas, defending: water, axis: y, sample: [0.0, 0.02]}");
+  EXPECT_NE(m.find("drainage.sample"), std::string::npos) << m;
+  EXPECT_NE(m.find("strictly inside the domain"), std::string::npos) << m;
+  m = err("{invading: gas, defending: water, axis: w, sample: [0.01, 0.02]}");
+  EXPECT_NE(m.find("drainage.axis"), std::string::npos) << m;
+  m = err(kDrainage, "[true, false]");
+  EXPECT_NE(m.find("drainage.pressure_drop"), std::string::npos) << m;
+  EXPECT_NE(m.find("periodic along the flow axis y"), std::string::npos) << m;
+  m = err("{invading: gas, defending: water, sample: [0.01, 0.02], presure_drop: 1}");
+  EXPECT_NE(m.find("did you mean 'pressure_drop'"), std::string::npos) << m;
+}
