@@ -49,6 +49,9 @@ class VoxelImage {
   std::uint8_t at(int x, int y, int z) const { return v_[static_cast<size_t>(linear(x, y, z))]; }
   std::uint8_t& at(int x, int y, int z) { return v_[static_cast<size_t>(linear(x, y, z))]; }
   const std::vector<std::uint8_t>& values() const { return v_; }
+  std::uint8_t* data() { return v_.data(); }
+  /// Whether the image is a 2D slice (nz == 1).
+  bool flat() const { return n_[2] == 1; }
 
   /// Sub-block [x0, x0+sx) x [y0, y0+sy) x [z0, z0+sz); throws InputError when out of range.
   VoxelImage crop(int x0, int y0, int z0, int sx, int sy, int sz) const;
