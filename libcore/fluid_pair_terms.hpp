@@ -38,6 +38,11 @@ struct FluidPairSettings {
   bool harmonicMean = true;   ///< harmonic mean of the viscosities (Eq. 5.4)
   double artificialViscosity = 0.0;  ///< alpha of Eq. 2.64
   double h = 0.0;             ///< smoothing length
+  /// Constant subtracted from both pressures in the pressure term only (the fluid module's
+  /// `pressure_reference: background`, issue 14): a uniform pressure then exerts exactly no
+  /// force on any particle arrangement (with Eq. 5.2b or Hu-Adams a background pressure acting
+  /// on a disordered neighbourhood is a spurious elastic stiffness). 0 = off (the default).
+  double pressureOffset = 0.0;
 };
 
 /// The fluid particle a of the pair.
@@ -79,14 +84,15 @@ FluidPairResult<D> fluidBoundaryPair(const Vec<D>& r, double F, const FluidPairS
   const double muBar =
       mua + mub > 0.0 ? (s.harmonicMean ? 4.0 * mua * mub / (mua + mub) : mua + mub) : 0.0;
   const Vec<D> vab = a.v - b.vNoSlip;
+  const double pa0 = a.p - s.pressureOffset, pb0 = pb - s.pressureOffset;  // force pressures
   if (s.huAdams) {
     const double Va = a.m / a.rho;
-    const double pt = (rhob * a.p + a.rho * pb) / (a.rho + rhob);
+    const double pt = (rhob * pa0 + a.rho * pb0) / (a.rho + rhob);
     const double vv = (Va * Va + b.volume * b.volume) / a.m;
     out.pressure = -(vv * pt) * gradW;
     out.viscous = (vv * 0.5 * muBar * F) * vab;
   } else {
-    out.pressure = -(mb * (a.p / (a.rho * a.rho) + pb / (rhob * rhob))) * gradW;  // 5.2b
+    out.pressure = -(mb * (pa0 / (a.rho * a.rho) + pb0 / (rhob * rhob))) * gradW;  // 5.2b
     out.viscous = (muBar * b.volume * F / a.rho) * vab;                            // 5.4
   }
   // 5.1a with the boundary's own velocity (Extrapolated) or the mirrored one (Mirror).

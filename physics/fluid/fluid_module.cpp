@@ -106,6 +106,9 @@ void FluidModule::configure(Simulation& sim, const std::vector<const Material*>&
     artificialViscosity_ = s.real("artificial_viscosity", 0.0, Range::closed(0.0, 10.0));
     xsph_ = s.real("xsph", 0.0, Range::closed(0.0, 1.0));
     shifting_ = s.real("shifting", 0.0, Range::closed(0.0, 10.0));
+    pressureReference_ =
+        s.choice("pressure_reference", "none", {"none", "background"}) == "background";
+    transportVelocity_ = s.boolean("transport_velocity", false);
     densityBound_ = s.real("density_variation_bound", 0.03, Range{0.0, 1.0, true, false});
     cflAcoustic_ = s.real("cfl_acoustic", 0.25, Range{0.0, 1.0, true, false});
     cflViscous_ = s.real("cfl_viscous", 0.125, Range{0.0, 1.0, true, false});
@@ -118,8 +121,27 @@ void FluidModule::configure(Simulation& sim, const std::vector<const Material*>&
     s.finish();
   }
 
+  // One background pressure per run (issue 14): the smallest of the fluids' (all equal in the
+  // shipped scenes). With `pressure_reference: background` it is subtracted in the pressure
+  // force (a uniform pressure then exerts no force on any arrangement); with
+  // `transport_velocity` it drives the particle regularisation instead (Adami et al. 2013).
+  backgroundPressure_ = 0.0;
+  {
+    bool first = true;
+    for (const Material* m : materials) {
+      const MaterialData& md = mat_[static_cast<size_t>(m->id)];
+      if (!md.fluid) continue;
+      backgroundPressure_ = first ? md.backgroundPressure : std::min(backgroundPressure_, md.backgroundPressure);
+      first = false;
+    }
+  }
+  if (transportVelocity_ && !(backgroundPressure_ > 0.0) && section)
+    section->fail("transport_velocity",
+                  "needs a positive background_pressure of the fluid materials (it drives the "
+                  "transport velocity)");
   sim.fluidPairSettings = FluidPairSettings{pressureForm_ == PressureForm::HuAdams, harmonicMean_,
-                                            artificialViscosity_, sim.kernel.h()};
+                                            artificialViscosity_, sim.kernel.h(),
+                                            pressureReference_ ? backgroundPressure_ : 0.0};
 
   // fields (produce = register-if-absent)
   auto& st = sim.store;
@@ -145,14 +167,14 @@ void FluidModule::configure(Simulation& sim, const std::vector<const Material*>&
   if (surfaceTensionActive()) {
     colour = st.addReal("colour", 1, kFieldDefault, "fluid");
     colourGradient = st.addReal("colour_gradient", d, kFieldOutput | kFieldToGhosts, "fluid");
-    curvature = st.addReal("curvature", 1, kFieldOutput, "fluid");
+    curvature = st.addReal("curvature", 1, kFieldOutput | kFieldToGhosts, "fluid");
     interface = st.addInt("interface", 1, kFieldOutput, "fluid");
   }
   // Every particle (the solid's small-strain form integrates the same density field for all of
   // its particles): fixed fluid and wall particles get a zero rate, so nothing changes there.
   if (!summation_) sim.addIntegrated(st.density(), densityRate, false);
   positionCorrection = RealField{};
-  if (xsph_ > 0.0 || shifting_ > 0.0) {
+  if (xsph_ > 0.0 || shifting_ > 0.0 || transportVelocity_) {
     // XSPH (Eq. 2.66) and particle shifting move a particle with v + dv: the correction dv is a
     // second rate of the positions, advanced by the integrator like any field (one field for
     // both: the integrators take one rate per field).
@@ -406,7 +428,6 @@ void FluidModule::kinematicsD(Simulation& sim) {
     Vec<D> g = Vec<D>::Zero();
     int flag = 0;
     if (ph[i] == kPhaseFluid) {
-      const double rhoi = rho[i];
       for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
         const Index j = nl.index[static_cast<size_t>(k)];
         const double dc = col[j] - col[i];
@@ -416,9 +437,12 @@ void FluidModule::kinematicsD(Simulation& sim) {
         Vec<D> r;
         for (int a = 0; a < D; ++a) r[a] = x[i * D + a] - x[j * D + a];
         const double Vj = m[j] / rho[j];
-        double w = 1.0;
-        if (densityWeightedCsf_ && ph[j] == kPhaseFluid) w = 2.0 * rhoi / (rhoi + rho[j]);
-        g += (w * Vj * dc * W.F(r.norm())) * r;
+        // Unweighted Eq. 5.7: the normal and its curvature (5.8) are those of the colour field on
+        // both sides of the interface; the density weighting 2 rho_a / (rho_a + rho_b) of the
+        // force is applied in the force stage (weighting the normal here would leave only the
+        // heavy side's particles with a reliable normal, and the curvature 1/r of their band,
+        // inside the interface: +6 % on the Laplace jump at density ratio 1000, R/dx = 10).
+        g += (Vj * dc * W.F(r.norm())) * r;
       }
     }
     for (int a = 0; a < D; ++a) ng[i * D + a] = g[a];
@@ -520,6 +544,7 @@ void FluidModule::kinematicsD(Simulation& sim) {
       kap[i] = -G.trace() * D / tr;  // isotropic normalisation (Morris 2000)
     }
   }
+  st.refreshGhosts(curvature);  // the force stage reads the neighbours' curvature
 }
 
 template <int D>
@@ -620,7 +645,12 @@ void FluidModule::forcesD(Simulation& sim) {
   double* acc = st.data(sim.acceleration);
   double* drho = summation_ ? nullptr : st.data(densityRate);
   double* corrRate = positionCorrection.valid() ? st.data(positionCorrection) : nullptr;
-  const bool xsphOn = xsph_ > 0.0, shiftOn = shifting_ > 0.0;
+  const bool xsphOn = xsph_ > 0.0, shiftOn = shifting_ > 0.0, tvOn = transportVelocity_;
+  const double pOff = pressureReference_ ? backgroundPressure_ : 0.0;
+  // Transport velocity (Adami et al. 2013): particles move with v + dt a_b,
+  // a_b = -(p_b / m_a) sum_b (V_a^2 + V_b^2) grad W_ab (the background pressure's force, here
+  // only in the advection).
+  const double tvScale = tvOn ? sim.dt * backgroundPressure_ : 0.0;
   // Shifting velocity scale: the largest fluid speed (particles at rest are not shifted).
   double uShift = 0.0;
   if (shiftOn) {
@@ -635,6 +665,7 @@ void FluidModule::forcesD(Simulation& sim) {
   const double* ng = gamma_ > 0.0 ? st.data(colourGradient) : nullptr;
   const double* kap = gamma_ > 0.0 ? st.data(curvature) : nullptr;
   const std::int32_t* itf = gamma_ > 0.0 ? st.data(interface) : nullptr;
+  const double* col = gamma_ > 0.0 ? st.data(colour) : nullptr;
   const MaterialData* md = mat_.data();
   const int nm = static_cast<int>(mat_.size());
   const double h = W.h();
@@ -700,6 +731,9 @@ void FluidModule::forcesD(Simulation& sim) {
     Vec<D> aP = Vec<D>::Zero(), aV = Vec<D>::Zero(), aA = Vec<D>::Zero(), dvX = Vec<D>::Zero(),
            gradC = Vec<D>::Zero();
     double divv = 0.0, diff = 0.0;
+    const bool csfHere = gamma_ > 0.0 && itf[i];
+    Vec<D> nU = Vec<D>::Zero(), nW = Vec<D>::Zero(), tv = Vec<D>::Zero();
+    double kS = 0.0, wS = 0.0;
     for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
       const Index j = nl.index[static_cast<size_t>(k)];
       Vec<D> r;
@@ -711,6 +745,30 @@ void FluidModule::forcesD(Simulation& sim) {
       for (int a = 0; a < D; ++a) vb[a] = v[j * D + a];
       moment -= (m[j] / rho[j]) * r.squaredNorm() * F;  // for the next evaluation's factor
       if (shiftOn) gradC += (m[j] / rho[j]) * gradW;  // grad of sum_b V_b W_ab (all neighbours)
+      if (tvOn) {
+        const double Vb = m[j] / rho[j];
+        tv += (Va * Va + Vb * Vb) * gradW;
+      }
+      if (csfHere && col[j] != col[i] &&
+          (ph[j] == kPhaseFluid || (wallWetting_ && !wettingNormal_))) {
+        // The pairs of Eq. 5.7 again: unweighted and density-weighted normal, and the curvature
+        // where the pair straddles the interface (see below).
+        const double dc = col[j] - col[i], Vb = m[j] / rho[j];
+        nU += (Vb * dc) * gradW;
+        const bool fl = ph[j] == kPhaseFluid;
+        const double w = densityWeightedCsf_ && fl ? 2.0 * rho[i] / (rho[i] + rho[j]) : 1.0;
+        nW += (w * Vb * dc) * gradW;
+        const double kb = fl ? kap[j] : 0.0, ka = kap[i];
+        if (ka != 0.0 || kb != 0.0) {
+          // Curvature at the pair's midpoint: the mean of the two (one side's if the other has
+          // no reliable normal; the harmonic mean, exact for (D-1)/r, is biased low by the
+          // particle noise of kappa, ~50 % of 1/R per particle at R/dx = 10).
+          const double km = ka == 0.0 ? kb : kb == 0.0 ? ka : 0.5 * (ka + kb);
+          const double wt = w * Vb * std::abs(dc * F) * r.norm();
+          kS += km * wt;
+          wS += wt;
+        }
+      }
       if (ph[j] == kPhaseWall) {
         // Fixed boundary: extrapolated pressure, no-slip velocity (the shared pair terms).
         BoundaryPairSide<D> sideB;
@@ -743,12 +801,12 @@ void FluidModule::forcesD(Simulation& sim) {
                                : 0.0;
       if (huAdams) {
         // Hu & Adams (2006): -(1/m_a) sum (V_a^2 + V_b^2) p~_ab grad W, p~ density-weighted.
-        const double pt = (rhob * pa + rhoa * pb) / (rhoa + rhob);
+        const double pt = (rhob * (pa - pOff) + rhoa * (pb - pOff)) / (rhoa + rhob);
         const double vv = (Va * Va + Vb * Vb) / m[i];
         aP -= (vv * pt) * gradW;
         aV += (fab * vv * 0.5 * muBar * F) * vab;
       } else {
-        aP -= (mb * (pa / (rhoa * rhoa) + pb / (rhob * rhob))) * gradW;  // Eq. 5.2b
+        aP -= (mb * ((pa - pOff) / (rhoa * rhoa) + (pb - pOff) / (rhob * rhob))) * gradW;  // Eq. 5.2b
         aV += (fab * muBar * Vb * F / rhoa) * vab;                        // Eq. 5.4
       }
       divv += Vb * (va - vb).dot(gradW);  // Eq. 5.1a
@@ -770,8 +828,17 @@ void FluidModule::forcesD(Simulation& sim) {
         for (int a = 0; a < D; ++a) ai[a] += b.acceleration[static_cast<size_t>(a)];
     }
     // CSF surface tension, Eq. 1.9 with the colour gradient of Eq. 5.7 (colour jump 2 => 1/2).
-    if (gamma_ > 0.0 && itf[i]) {
-      for (int a = 0; a < D; ++a) ai[a] += 0.5 * gamma_ * kap[i] * ng[i * D + a] / rhoa;
+    // The normal n_a (colour_gradient: unweighted 5.7, turned by the wetting model near walls)
+    // is scaled to the density-weighted magnitude |sum w V dc grad W| (w = 2 rho_a/(rho_a+rho_b):
+    // the force acts on the heavy side, whose acceleration it does not overload); the curvature
+    // is the weighted mean over the straddling pairs of their midpoint curvature, i.e. that of
+    // the interface, not of the particle's own level line (the weighted force sits on the heavy
+    // side only, where 1/r is larger than at the interface by ~dx/R).
+    if (csfHere) {
+      const double nu = nU.norm();
+      const double scale = nu > 0.0 ? nW.norm() / nu : 1.0;
+      const double kappa = wS > 0.0 ? kS / wS : kap[i];
+      for (int a = 0; a < D; ++a) ai[a] += 0.5 * gamma_ * kappa * scale * ng[i * D + a] / rhoa;
     }
     for (int a = 0; a < D; ++a) acc[i * D + a] += ai[a];
     if (drho) drho[i] += rhoa * divv + densityDiffusion_ * h * ma.soundSpeed * diff;
@@ -782,6 +849,7 @@ void FluidModule::forcesD(Simulation& sim) {
       // liquid-gas interface of consistent volumes: no interface treatment is applied (a free
       // surface would need one).
       Vec<D> dv = xsph_ * dvX;
+      if (tvOn) dv -= (tvScale / m[i]) * tv;
       if (shiftOn) {
         Vec<D> ds = -shifting_ * h * uShift * gradC;
         const double cap = 0.5 * uShift, len = ds.norm();

@@ -125,6 +125,9 @@ class FluidModule : public Module {
   double artificialViscosity_ = 0.0;  // alpha of Eq. 2.64 (0: off)
   double xsph_ = 0.0;               // epsilon of XSPH, Eq. 2.66 (0: off)
   double shifting_ = 0.0;           // coefficient A of the particle shifting velocity (0: off)
+  bool pressureReference_ = false;  // subtract the background pressure in the pressure force
+  bool transportVelocity_ = false;  // background pressure in the advection (Adami et al. 2013)
+  double backgroundPressure_ = 0.0; // the run's background pressure (smallest of the fluids')
   double densityBound_ = 0.03;
   double cflAcoustic_ = 0.25, cflViscous_ = 0.125, cflForce_ = 0.25, cflSurface_ = 0.25;
   bool hydrostaticInit_ = false;

@@ -245,7 +245,9 @@ inline DropletRun runDroplet(double rdx, double boxR, double mu, double pb, doub
   const int liq = fs::addMaterial(sim, "liquid", "fluid", buf);
   std::snprintf(buf, sizeof buf, "{density: 1000, sound_speed: %g, viscosity: %g, colour: -1, background_pressure: %g}", c, mu, pb);
   const int gas = fs::addMaterial(sim, "gas", "fluid", buf);
-  std::snprintf(buf, sizeof buf, "{surface_tension: %g}", gamma);
+  // OSC_EXTRA: extra keys of the fluid section (", key: value", manual studies)
+  std::snprintf(buf, sizeof buf, "{surface_tension: %g%s}", gamma,
+                std::getenv("OSC_EXTRA") ? std::getenv("OSC_EXTRA") : "");
   FluidModule* fluid = fs::addFluidModule(sim, buf);
   auto inside = [&](const double* x) {
     const double X = x[0] - 0.5 * B, Y = x[1] - 0.5 * B;
