@@ -103,6 +103,9 @@ class Module {
   /// Global quantities for timeseries.csv (name, value), e.g. energies.
   virtual void diagnostics(const Simulation& sim,
                            std::vector<std::pair<std::string, double>>& columns) const {}
+  /// Lines for `poresph info` (describeScene), e.g. the rigid bodies with mass and inertia;
+  /// called once the particles are built, possibly before initialise(). "" for nothing.
+  virtual std::string describe(const Simulation& sim) const { return ""; }
 };
 
 /// Modules register themselves by name, one line per module:

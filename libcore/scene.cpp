@@ -633,6 +633,8 @@ std::string describeScene(const Scene& scene) {
   if (sim.modules.empty()) o << "(none)";
   for (size_t k = 0; k < sim.modules.size(); ++k) o << (k ? ", " : "") << sim.modules[k]->name();
   o << "\n";
+  if (scene.particlesBuilt || sim.store.realCount() > 0)
+    for (const auto& m : sim.modules) o << m->describe(sim);
   o << "fields:       " << sim.store.fields().size() << "\n";
   for (const auto& f : sim.store.fields()) {
     std::string flags;

@@ -1,0 +1,778 @@
+// Rigid bodies made of particles: thesis Appendix A (A.4-A.18). See rigid_module.hpp and
+// docs/rigid.md.
+#include "physics/rigid/rigid_module.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <numeric>
+#include <sstream>
+#include <unordered_map>
+
+#include "libcore/contact_repulsion.hpp"
+#include "libcore/fluid_pair_terms.hpp"
+#include "libcore/phases.hpp"
+#include "libcore/simulation.hpp"
+
+namespace poresph {
+
+using rigid::M3;
+using rigid::V3;
+
+namespace {
+
+std::string fmtNum(double v) {
+  std::ostringstream o;
+  o << std::setprecision(6) << v;
+  return o.str();
+}
+
+/// Union-find with path halving.
+struct UnionFind {
+  std::vector<Index> parent;
+  explicit UnionFind(Index n) : parent(static_cast<size_t>(n)) {
+    std::iota(parent.begin(), parent.end(), Index{0});
+  }
+  Index find(Index a) {
+    while (parent[static_cast<size_t>(a)] != a) {
+      parent[static_cast<size_t>(a)] = parent[static_cast<size_t>(parent[static_cast<size_t>(a)])];
+      a = parent[static_cast<size_t>(a)];
+    }
+    return a;
+  }
+  void unite(Index a, Index b) {
+    a = find(a);
+    b = find(b);
+    if (a != b) parent[static_cast<size_t>(std::max(a, b))] = std::min(a, b);
+  }
+};
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// configuration
+// ---------------------------------------------------------------------------------------------
+void RigidModule::configure(Simulation& sim, const std::vector<const Material*>& materials,
+                            const ParameterSet* section) {
+  dim_ = sim.dimension();
+  const int d = dim_;
+  mats_.clear();
+  slot_.assign(sim.materials.size(), -1);
+  for (const Material* m : materials) {
+    const ParameterSet& p = m->parameters;
+    RigidMaterial r;
+    r.id = m->id;
+    r.name = m->name;
+    r.where = p.where("model");
+    r.density = m->density > 0.0 ? m->density : p.real("density", Range::positive());
+    const double theta = p.real("contact_angle", 90.0, Range::closed(0.0, 180.0));
+    r.contactModulus = p.real("contact_modulus", 0.0, Range::nonNegative());
+    r.fixed = p.boolean("fixed", false);
+    if (p.has("translate")) {
+      const std::vector<double> t = p.reals("translate", static_cast<size_t>(d));
+      for (int a = 0; a < d; ++a) {
+        if (t[static_cast<size_t>(a)] != 0.0 && t[static_cast<size_t>(a)] != 1.0)
+          p.fail("translate", "must list 0 (locked) or 1 (free) for each axis");
+        r.translate[static_cast<size_t>(a)] = t[static_cast<size_t>(a)];
+      }
+    }
+    r.rotate = p.boolean("rotate", true);
+    if (p.has("angular_velocity")) {
+      if (d == 1) p.fail("angular_velocity", "a 1D body does not rotate");
+      const std::vector<double> w = p.reals("angular_velocity", d == 2 ? 1u : 3u);
+      if (d == 2)
+        r.angularVelocity[2] = w[0];
+      else
+        for (int a = 0; a < 3; ++a) r.angularVelocity[static_cast<size_t>(a)] = w[static_cast<size_t>(a)];
+    }
+    if (p.has("plate")) {
+      const ParameterSet pl = p.section("plate");
+      r.plate = true;
+      const std::vector<double> dir = pl.reals("direction", static_cast<size_t>(d));
+      double norm = 0.0;
+      for (double c : dir) norm += c * c;
+      norm = std::sqrt(norm);
+      if (!(norm > 0.0)) pl.fail("direction", "must be a non-zero vector");
+      for (int a = 0; a < d; ++a)
+        r.plateDirection[static_cast<size_t>(a)] = dir[static_cast<size_t>(a)] / norm;
+      r.plateStress = pl.real("stress", Range::any());
+      r.plateArea = pl.real("area", Range::positive());
+      r.plateDamping = pl.real("damping", 0.0, Range::nonNegative());
+      pl.finish();
+      if (r.fixed) p.fail("plate", "a plate moves to carry its load: it cannot also be fixed");
+      r.rotate = false;
+    }
+    if (d == 1) r.rotate = false;
+    p.finish();
+    Material& mat = sim.materials[static_cast<size_t>(m->id)];
+    mat.phase = kPhaseRigid;
+    mat.density = r.density;
+    mat.wettingCos = std::cos(theta * 3.14159265358979323846 / 180.0);  // Eq. 1.10
+    slot_[static_cast<size_t>(m->id)] = static_cast<int>(mats_.size());
+    mats_.push_back(r);
+  }
+  gravity_ = {0, 0, 0};
+  fluidModel_ = BoundaryModel::Mirror;
+  if (section) {
+    if (section->has("gravity")) {
+      const std::vector<double> g = section->reals("gravity", static_cast<size_t>(d));
+      for (int a = 0; a < d; ++a) gravity_[static_cast<size_t>(a)] = g[static_cast<size_t>(a)];
+    }
+    fluidModel_ = section->choice("fluid_rigid", "mirror", {"mirror", "extrapolated"}) ==
+                          "extrapolated"
+                      ? BoundaryModel::Extrapolated
+                      : BoundaryModel::Mirror;
+    section->finish();
+  }
+  ParticleStore& st = sim.store;
+  body_ = st.addInt("body", 1, kFieldDefault, "rigid");
+  offset_ = st.addReal("body_offset", d, kFieldCheckpoint, "rigid");
+}
+
+const RigidMaterial* RigidModule::materialOf(int id) const {
+  if (id < 0 || id >= static_cast<int>(slot_.size()) || slot_[static_cast<size_t>(id)] < 0)
+    return nullptr;
+  return &mats_[static_cast<size_t>(slot_[static_cast<size_t>(id)])];
+}
+
+// ---------------------------------------------------------------------------------------------
+// bodies: connected clusters of the lattice, mass, centre of mass (A.7), inertia (A.8)
+// ---------------------------------------------------------------------------------------------
+BodyPartition RigidModule::partition(const Simulation& sim) const {
+  const ParticleStore& st = sim.store;
+  const int d = sim.dimension();
+  const Index n = st.realCount();
+  const double* x = st.data(st.position());
+  const double* m = st.data(st.mass());
+  const std::int32_t* mt = st.data(st.material());
+  const double dx = sim.spacing;
+  BodyPartition out;
+  out.bodyOf.assign(static_cast<size_t>(n), -1);
+  std::vector<Index> rigidIdx;
+  for (Index i = 0; i < n; ++i)
+    if (materialOf(mt[i])) rigidIdx.push_back(i);
+  const Index nr = static_cast<Index>(rigidIdx.size());
+  if (nr == 0) return out;
+  // Lattice cell of each rigid particle; neighbours along the axes at one spacing are linked
+  // when they have the same material (6-connected clusters in 3D, 4-connected in 2D).
+  auto key = [&](const std::array<long long, 3>& c) {
+    return static_cast<unsigned long long>(c[0] & 0x1FFFFF) |
+           (static_cast<unsigned long long>(c[1] & 0x1FFFFF) << 21) |
+           (static_cast<unsigned long long>(c[2] & 0x1FFFFF) << 42);
+  };
+  std::vector<std::array<long long, 3>> cell(static_cast<size_t>(nr));
+  std::unordered_map<unsigned long long, Index> at;
+  at.reserve(static_cast<size_t>(2 * nr));
+  for (Index k = 0; k < nr; ++k) {
+    const Index i = rigidIdx[static_cast<size_t>(k)];
+    std::array<long long, 3> c{0, 0, 0};
+    for (int a = 0; a < d; ++a)
+      c[static_cast<size_t>(a)] =
+          std::llround((x[i * d + a] - sim.domain.lo[static_cast<size_t>(a)]) / dx - 0.5);
+    cell[static_cast<size_t>(k)] = c;
+    at[key(c)] = k;
+  }
+  UnionFind uf(nr);
+  for (Index k = 0; k < nr; ++k) {
+    const Index i = rigidIdx[static_cast<size_t>(k)];
+    for (int a = 0; a < d; ++a) {
+      std::array<long long, 3> c = cell[static_cast<size_t>(k)];
+      c[static_cast<size_t>(a)] += 1;
+      auto it = at.find(key(c));
+      if (it == at.end()) continue;
+      const Index j = rigidIdx[static_cast<size_t>(it->second)];
+      if (mt[j] != mt[i]) continue;
+      double r2 = 0.0;
+      for (int b = 0; b < d; ++b) r2 += (x[i * d + b] - x[j * d + b]) * (x[i * d + b] - x[j * d + b]);
+      if (r2 < 1.5 * 1.5 * dx * dx) uf.unite(k, it->second);
+    }
+  }
+  std::unordered_map<Index, int> bodyOfRoot;
+  for (Index k = 0; k < nr; ++k) {
+    const Index root = uf.find(k);
+    auto it = bodyOfRoot.find(root);
+    int b;
+    if (it == bodyOfRoot.end()) {
+      b = static_cast<int>(out.bodies.size());
+      bodyOfRoot[root] = b;
+      out.bodies.emplace_back();
+      out.bodies.back().material = mt[rigidIdx[static_cast<size_t>(k)]];
+      out.bodies.back().state.dimension = d;
+    } else {
+      b = it->second;
+    }
+    out.bodyOf[static_cast<size_t>(rigidIdx[static_cast<size_t>(k)])] = b;
+  }
+  // Mass and centre of mass (A.7).
+  std::vector<V3> first(out.bodies.size(), V3::Zero());
+  std::vector<bool> seen(out.bodies.size(), false);
+  for (Index i = 0; i < n; ++i) {
+    const int b = out.bodyOf[static_cast<size_t>(i)];
+    if (b < 0) continue;
+    RigidBody& B = out.bodies[static_cast<size_t>(b)];
+    V3 p = V3::Zero();
+    for (int a = 0; a < d; ++a) p[a] = x[i * d + a];
+    B.count += 1;
+    B.state.mass += m[i];
+    B.state.X += m[i] * p;
+  }
+  for (RigidBody& B : out.bodies) B.state.X /= B.state.mass;
+  // Inertia tensor about the centre of mass (A.8).
+  std::vector<M3> inertia(out.bodies.size(), M3::Zero());
+  for (Index i = 0; i < n; ++i) {
+    const int b = out.bodyOf[static_cast<size_t>(i)];
+    if (b < 0) continue;
+    V3 r = V3::Zero();
+    for (int a = 0; a < d; ++a) r[a] = x[i * d + a] - out.bodies[static_cast<size_t>(b)].state.X[a];
+    inertia[static_cast<size_t>(b)] += m[i] * (r.squaredNorm() * M3::Identity() - r * r.transpose());
+  }
+  for (size_t b = 0; b < out.bodies.size(); ++b) {
+    RigidBody& B = out.bodies[b];
+    const RigidMaterial& rm = *materialOf(B.material);
+    std::ostringstream where;
+    where << "rigid: body " << b << " of material '" << rm.name << "' (" << B.count
+          << " particle" << (B.count == 1 ? "" : "s") << ", centre of mass (";
+    for (int a = 0; a < d; ++a) where << (a ? ", " : "") << fmtNum(B.state.X[a]);
+    where << ") m)";
+    if (B.count < 2 && !rm.fixed)
+      throw InputError(where.str() + " has a single particle: a free body needs at least two "
+                       "(its inertia would be zero); use a larger region or a smaller spacing, or "
+                       "set fixed: true in " + rm.where);
+    const M3& I = inertia[b];
+    if (d == 3) {
+      Eigen::SelfAdjointEigenSolver<M3> es(I);
+      V3 ev = es.eigenvalues();
+      M3 axes = es.eigenvectors();
+      if (axes.determinant() < 0.0) axes.col(2) = -axes.col(2);
+      const double scale = std::max(ev.maxCoeff(), B.state.mass * dx * dx);
+      if (!rm.fixed && rm.rotate && !(ev.minCoeff() > 1e-9 * scale))
+        throw InputError(where.str() + " has zero moment of inertia about an axis (its particles "
+                         "lie on one line): its rotation about that axis is undefined; make it "
+                         "thicker or set rotate: false in " + rm.where);
+      B.state.Ib = ev.cwiseMax(1e-300);
+      B.state.q = Eigen::Quaterniond(axes).normalized();
+    } else if (d == 2) {
+      if (!rm.fixed && rm.rotate && !(I(2, 2) > 0.0))
+        throw InputError(where.str() + " has zero moment of inertia: set rotate: false in " +
+                         rm.where);
+      B.state.Ib = V3(I(0, 0), I(1, 1), std::max(I(2, 2), 1e-300));
+      B.state.q = Eigen::Quaterniond::Identity();
+    } else {
+      B.state.Ib = V3::Ones();
+    }
+    B.X0 = B.state.X;
+  }
+  return out;
+}
+
+void RigidModule::initialise(Simulation& sim) {
+  ParticleStore& st = sim.store;
+  const int d = dim_;
+  const Index n = st.realCount();
+  BodyPartition part = partition(sim);
+  bodies_ = std::move(part.bodies);
+  std::int32_t* body = st.data(body_);
+  double* off = st.data(offset_);
+  std::int32_t* mo = st.data(sim.motion);
+  const double* x = st.data(st.position());
+  const double* v = st.data(st.velocity());
+  const double* m = st.data(st.mass());
+  // Fixed bodies: the material's key, or every particle of the body in a fixed region.
+  std::vector<int> allFixed(bodies_.size(), 1);
+  for (Index i = 0; i < n; ++i) {
+    body[i] = part.bodyOf[static_cast<size_t>(i)];
+    if (body[i] >= 0 && mo[i] != kMotionFixed) allFixed[static_cast<size_t>(body[i])] = 0;
+  }
+  // Initial velocity and angular momentum from the particles' velocities (their rigid part)
+  // plus the material's angular velocity.
+  std::vector<V3> P(bodies_.size(), V3::Zero()), Lsum(bodies_.size(), V3::Zero());
+  for (Index i = 0; i < n; ++i) {
+    if (body[i] < 0) continue;
+    const RigidBody& B = bodies_[static_cast<size_t>(body[i])];
+    V3 r = V3::Zero(), vi = V3::Zero();
+    for (int a = 0; a < d; ++a) {
+      r[a] = x[i * d + a] - B.state.X[a];
+      vi[a] = v[i * d + a];
+    }
+    P[static_cast<size_t>(body[i])] += m[i] * vi;
+    Lsum[static_cast<size_t>(body[i])] += m[i] * r.cross(vi);
+    // Body-frame offset.
+    const V3 rb = B.state.R().transpose() * r;
+    for (int a = 0; a < d; ++a) off[i * d + a] = rb[a];
+  }
+  for (size_t b = 0; b < bodies_.size(); ++b) {
+    RigidBody& B = bodies_[b];
+    const RigidMaterial& rm = *materialOf(B.material);
+    const bool fixed = rm.fixed || allFixed[b];
+    if (fixed) {
+      B.state.V.setZero();
+      B.state.L.setZero();
+      continue;
+    }
+    B.state.V = P[b] / B.state.mass;
+    const V3 w0(rm.angularVelocity[0], rm.angularVelocity[1], rm.angularVelocity[2]);
+    B.state.L = Lsum[b] + B.state.inertiaWorld() * w0;
+    if (d == 2) B.state.L.x() = B.state.L.y() = 0.0;
+    if (!rm.rotate || d == 1) B.state.L.setZero();
+    for (int a = 0; a < 3; ++a)
+      if (rm.translate[static_cast<size_t>(a)] == 0.0) B.state.V[a] = 0.0;
+    if (rm.plate) {
+      const V3 dir(rm.plateDirection[0], rm.plateDirection[1], rm.plateDirection[2]);
+      B.state.V = B.state.V.dot(dir) * dir;
+    }
+  }
+  for (Index i = 0; i < n; ++i) {
+    if (body[i] < 0) continue;
+    const RigidBody& B = bodies_[static_cast<size_t>(body[i])];
+    const RigidMaterial& rm = *materialOf(B.material);
+    mo[i] = (rm.fixed || allFixed[static_cast<size_t>(body[i])]) ? kMotionFixed : kMotionFree;
+  }
+  dispatchDimension(d, [&](auto dc) { this->placeD<decltype(dc)::value>(sim, -1); });
+
+  // Materials of the other side of the contacts (A.17): k_s = rho0 c^2 of the solids.
+  solidModulus_.assign(sim.materials.size(), 0.0);
+  for (const Material& mat : sim.materials)
+    if (mat.phase == kPhaseSolid && mat.waveSpeed > 0.0 && mat.density > 0.0)
+      solidModulus_[static_cast<size_t>(mat.id)] = mat.density * mat.waveSpeed * mat.waveSpeed;
+  maxContactModulus_ = 0.0;
+  minRigidDensity_ = std::numeric_limits<double>::infinity();
+  for (const RigidMaterial& r : mats_) {
+    maxContactModulus_ = std::max(maxContactModulus_, r.contactModulus);
+    minRigidDensity_ = std::min(minRigidDensity_, r.density);
+  }
+  // Fluid-rigid pairs: the fluid module's extrapolated boundary state.
+  fluidPairs_ = st.has("pressure") && st.has("wall_velocity");
+  if (fluidPairs_) {
+    pressure_ = st.real("pressure");
+    wallVelocity_ = st.real("wall_velocity");
+    viscousFactor_ = st.has("viscous_factor") ? st.real("viscous_factor") : RealField{};
+    densityRate_ = st.has("density_rate") ? st.real("density_rate") : RealField{};
+  }
+  threads_ = std::max(1, omp_get_max_threads());
+  partial_.assign(static_cast<size_t>(threads_) * bodies_.size() * 9, 0.0);
+}
+
+std::string RigidModule::describe(const Simulation& sim) const {
+  std::ostringstream o;
+  BodyPartition part;
+  try {
+    part = partition(sim);
+  } catch (const InputError& e) {
+    return std::string("rigid bodies: ") + e.what() + "\n";
+  }
+  o << "rigid bodies: " << part.bodies.size() << "\n";
+  const size_t shown = std::min<size_t>(part.bodies.size(), 20);
+  for (size_t b = 0; b < shown; ++b) {
+    const RigidBody& B = part.bodies[b];
+    const RigidMaterial& rm = *materialOf(B.material);
+    o << "  body " << b << " (" << rm.name << "): " << B.count << " particles, mass "
+      << fmtNum(B.state.mass) << (dim_ == 3 ? " kg" : dim_ == 2 ? " kg/m" : " kg/m^2")
+      << ", centre (";
+    for (int a = 0; a < dim_; ++a) o << (a ? ", " : "") << fmtNum(B.state.X[a]);
+    o << ") m, ";
+    if (dim_ == 3)
+      o << "principal inertia (" << fmtNum(B.state.Ib[0]) << ", " << fmtNum(B.state.Ib[1]) << ", "
+        << fmtNum(B.state.Ib[2]) << ") kg m^2";
+    else if (dim_ == 2)
+      o << "inertia " << fmtNum(B.state.Ib[2]) << " kg m";
+    o << (rm.fixed ? ", fixed" : rm.plate ? ", plate" : "") << "\n";
+  }
+  if (shown < part.bodies.size()) o << "  ... (" << part.bodies.size() - shown << " more)\n";
+  return o.str();
+}
+
+// ---------------------------------------------------------------------------------------------
+// placing particles: x = X + R r_body, v = V + omega x R r_body (A.14 with the exact rotation)
+// ---------------------------------------------------------------------------------------------
+template <int D>
+void RigidModule::placeD(Simulation& sim, int onlyBody) {
+  ParticleStore& st = sim.store;
+  const Index n = st.realCount();
+  const std::int32_t* body = st.data(body_);
+  const double* off = st.data(offset_);
+  const std::int32_t* mo = st.data(sim.motion);
+  double* x = st.data(st.position());
+  double* v = st.data(st.velocity());
+  const Domain& dom = sim.domain;
+  // Per-body rotation and angular velocity, computed once.
+  const size_t nb = bodies_.size();
+  std::vector<M3> R(nb);
+  std::vector<V3> W(nb);
+  for (size_t b = 0; b < nb; ++b) {
+    R[b] = bodies_[b].state.R();
+    W[b] = bodies_[b].state.omega();
+  }
+#pragma omp parallel for schedule(static)
+  for (Index i = 0; i < n; ++i) {
+    const int b = body[i];
+    if (b < 0 || mo[i] == kMotionFixed || (onlyBody >= 0 && b != onlyBody)) continue;
+    const rigid::BodyState& s = bodies_[static_cast<size_t>(b)].state;
+    V3 rb = V3::Zero();
+    for (int a = 0; a < D; ++a) rb[a] = off[i * D + a];
+    const V3 r = R[static_cast<size_t>(b)] * rb;
+    const V3 vel = s.V + W[static_cast<size_t>(b)].cross(r);
+    for (int a = 0; a < D; ++a) {
+      double p = s.X[a] + r[a];
+      if (dom.periodic[static_cast<size_t>(a)]) {
+        const double L = dom.length(a);
+        p -= L * std::floor((p - dom.lo[static_cast<size_t>(a)]) / L);
+      }
+      x[i * D + a] = p;
+      v[i * D + a] = vel[a];
+    }
+  }
+}
+
+void RigidModule::setBodyVelocity(Simulation& sim, size_t b, const V3& V, const V3& omega) {
+  RigidBody& B = bodies_.at(b);
+  B.state.V = V;
+  B.state.L = B.state.inertiaWorld() * omega;
+  if (dim_ == 2) B.state.L.x() = B.state.L.y() = 0.0;
+  dispatchDimension(dim_, [&](auto dc) { this->placeD<decltype(dc)::value>(sim, static_cast<int>(b)); });
+  B.started = false;
+}
+
+// ---------------------------------------------------------------------------------------------
+// pair forces: fluid-rigid (moving wall), rigid-solid / rigid-rigid / rigid-wall (A.18)
+// ---------------------------------------------------------------------------------------------
+void RigidModule::interfaces(Simulation& sim) {
+  dispatchDimension(dim_, [&](auto dc) { this->interfacesD<decltype(dc)::value>(sim); });
+}
+
+template <int D>
+void RigidModule::interfacesD(Simulation& sim) {
+  ParticleStore& st = sim.store;
+  const Index n = st.realCount();
+  const auto& nl = sim.neighbours;
+  const Kernel& W = sim.kernel;
+  const double* x = st.data(st.position());
+  const double* v = st.data(st.velocity());
+  const double* m = st.data(st.mass());
+  const double* rho = st.data(st.density());
+  const std::int32_t* ph = st.data(st.phase());
+  const std::int32_t* mt = st.data(st.material());
+  const std::int32_t* mo = st.data(sim.motion);
+  const std::int32_t* body = st.data(body_);
+  double* acc = st.data(sim.acceleration);
+  const std::vector<Material>& mats = sim.materials;
+  const double dx = sim.spacing;
+  const double* p = fluidPairs_ ? st.data(pressure_) : nullptr;
+  const double* vw = fluidPairs_ ? st.data(wallVelocity_) : nullptr;
+  const double* visc = viscousFactor_.valid() ? st.data(viscousFactor_) : nullptr;
+  double* drho = densityRate_.valid() ? st.data(densityRate_) : nullptr;
+  const FluidPairSettings settings = sim.fluidPairSettings;
+  const BoundaryModel model = fluidModel_;
+
+  auto isFluid = [&](Index i) {
+    return ph[i] == kPhaseFluid && mats[static_cast<size_t>(mt[i])].fluid.valid();
+  };
+  // Force of rigid particle b on fluid particle a (m_a times the shared pair terms); both sides
+  // call it with the fluid particle first, so the two evaluations are identical.
+  auto fluidPair = [&](Index a, Index b, double& divergence) -> Vec<D> {
+    Vec<D> r;
+    for (int c = 0; c < D; ++c) r[c] = x[a * D + c] - x[b * D + c];
+    const double F = W.F(r.norm());
+    divergence = 0.0;
+    if (F == 0.0) return Vec<D>::Zero();
+    FluidPairSide<D> fa;
+    fa.m = m[a];
+    fa.rho = rho[a];
+    fa.p = p[a];
+    fa.props = &mats[static_cast<size_t>(mt[a])].fluid;
+    BoundaryPairSide<D> sb;
+    sb.p = p[b];
+    sb.volume = m[b] / rho[b];
+    for (int c = 0; c < D; ++c) {
+      fa.v[c] = v[a * D + c];
+      sb.v[c] = v[b * D + c];
+      sb.vNoSlip[c] = vw[b * D + c];
+    }
+    const FluidPairResult<D> t = fluidBoundaryPair<D>(r, F, fa, sb, settings, model);
+    divergence = t.divergence;
+    const double factor = visc ? visc[a] : 1.0;
+    return m[a] * (t.pressure + factor * t.viscous + t.artificial);
+  };
+  // Contact modulus of a rigid particle i with neighbour j (A.17: the stiffer side).
+  auto modulus = [&](Index i, Index j) {
+    const RigidMaterial* ri = materialOf(mt[i]);
+    double k = ri ? ri->contactModulus : 0.0;
+    if (ph[j] == kPhaseSolid) k = std::max(k, solidModulus_[static_cast<size_t>(mt[j])]);
+    if (ph[j] == kPhaseRigid) {
+      const RigidMaterial* rj = materialOf(mt[j]);
+      if (rj) k = std::max(k, rj->contactModulus);
+    }
+    return k;
+  };
+
+#pragma omp parallel for schedule(dynamic, 256)
+  for (Index i = 0; i < n; ++i) {
+    const std::int32_t phi = ph[i];
+    if (phi == kPhaseWall) continue;
+    if (phi == kPhaseFluid) {
+      if (!fluidPairs_ || mo[i] == kMotionFixed || !isFluid(i)) continue;
+      Vec<D> f = Vec<D>::Zero();
+      double divv = 0.0;
+      for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
+        const Index j = nl.index[static_cast<size_t>(k)];
+        if (ph[j] != kPhaseRigid) continue;
+        double div = 0.0;
+        f += fluidPair(i, j, div);
+        divv += div;
+      }
+      for (int c = 0; c < D; ++c) acc[i * D + c] += f[c] / m[i];
+      if (drho) drho[i] += rho[i] * divv;  // Eq. 5.1a over the rigid neighbours
+    } else if (phi == kPhaseSolid) {
+      if (mo[i] == kMotionFixed) continue;
+      Vec<D> f = Vec<D>::Zero();
+      for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
+        const Index j = nl.index[static_cast<size_t>(k)];
+        if (ph[j] != kPhaseRigid) continue;
+        Vec<D> r;
+        for (int c = 0; c < D; ++c) r[c] = x[i * D + c] - x[j * D + c];
+        const double dist = r.norm();
+        if (dist >= dx) continue;
+        // the same expression as on the rigid side, with the roles exchanged: f_i = -f_j
+        f += pairRepulsion<D>(r, dist, m[i], m[j], modulus(j, i), dx);
+      }
+      for (int c = 0; c < D; ++c) acc[i * D + c] += f[c] / m[i];
+    } else if (phi == kPhaseRigid) {
+      Vec<D> f = Vec<D>::Zero();
+      for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
+        const Index j = nl.index[static_cast<size_t>(k)];
+        const std::int32_t phj = ph[j];
+        if (phj == kPhaseFluid) {
+          if (!fluidPairs_ || !isFluid(j)) continue;
+          double div = 0.0;
+          f -= fluidPair(j, i, div);  // reaction of the force on the fluid particle j
+          continue;
+        }
+        if (phj == kPhaseRigid && body[j] == body[i]) continue;  // same body: no force
+        Vec<D> r;
+        for (int c = 0; c < D; ++c) r[c] = x[i * D + c] - x[j * D + c];
+        const double dist = r.norm();
+        if (dist >= dx) continue;
+        f += pairRepulsion<D>(r, dist, m[i], m[j], modulus(i, j), dx);
+      }
+      for (int c = 0; c < D; ++c) acc[i * D + c] += f[c] / m[i];
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// constraints: force and torque of each body (A.9-A.10), constrained accelerations (A.11)
+// ---------------------------------------------------------------------------------------------
+void RigidModule::constrain(RigidBody& B, const V3& F, const V3& T, V3& acc, V3& torque) const {
+  const RigidMaterial& rm = *materialOf(B.material);
+  const double M = B.state.mass;
+  acc.setZero();
+  torque.setZero();
+  if (rm.fixed) return;
+  if (rm.plate) {
+    const V3 dir(rm.plateDirection[0], rm.plateDirection[1], rm.plateDirection[2]);
+    const double load = rm.plateStress * rm.plateArea;
+    acc = ((F.dot(dir) + load) / M - rm.plateDamping * B.state.V.dot(dir)) * dir;
+    return;
+  }
+  for (int a = 0; a < 3; ++a) acc[a] = rm.translate[static_cast<size_t>(a)] * F[a] / M;
+  if (rm.rotate) torque = T;
+  if (dim_ == 2) torque.x() = torque.y() = 0.0;
+}
+
+void RigidModule::constraints(Simulation& sim) {
+  if (bodies_.empty()) return;
+  dispatchDimension(dim_, [&](auto dc) { this->constraintsD<decltype(dc)::value>(sim); });
+}
+
+template <int D>
+void RigidModule::constraintsD(Simulation& sim) {
+  ParticleStore& st = sim.store;
+  const Index n = st.realCount();
+  const double* x = st.data(st.position());
+  const double* m = st.data(st.mass());
+  const std::int32_t* body = st.data(body_);
+  const std::int32_t* mo = st.data(sim.motion);
+  double* acc = st.data(sim.acceleration);
+  const Domain& dom = sim.domain;
+  const size_t nb = bodies_.size();
+  const int threads = threads_;
+  std::fill(partial_.begin(), partial_.end(), 0.0);
+  double* part = partial_.data();
+  // Lever arm of particle i about the body's centre of mass at the start of the step (minimal
+  // image across periodic faces); the reduction finds the current centre from it.
+  auto lever = [&](Index i, const V3& X) {
+    V3 r = V3::Zero();
+    for (int a = 0; a < D; ++a) {
+      double d = x[i * D + a] - X[a];
+      if (dom.periodic[static_cast<size_t>(a)]) {
+        const double L = dom.length(a);
+        d -= L * std::round(d / L);
+      }
+      r[a] = d;
+    }
+    return r;
+  };
+#pragma omp parallel num_threads(threads)
+  {
+    double* mine = part + static_cast<size_t>(omp_get_thread_num()) * nb * 9;
+#pragma omp for schedule(static)
+    for (Index i = 0; i < n; ++i) {
+      const int b = body[i];
+      if (b < 0) continue;
+      const V3 r = lever(i, bodies_[static_cast<size_t>(b)].state.X);
+      V3 f = V3::Zero();
+      for (int a = 0; a < D; ++a) f[a] = m[i] * acc[i * D + a];  // A.10: m_s a_a
+      const V3 t = r.cross(f);                                   // A.9
+      double* s = mine + static_cast<size_t>(b) * 9;
+      for (int a = 0; a < 3; ++a) {
+        s[a] += f[a];
+        s[3 + a] += m[i] * r[a];
+        s[6 + a] += t[a];
+      }
+    }
+  }
+  std::vector<V3>& shift = shift_;
+  shift.assign(nb, V3::Zero());
+  for (size_t b = 0; b < nb; ++b) {
+    RigidBody& B = bodies_[b];
+    V3 F = V3::Zero(), mr = V3::Zero(), T = V3::Zero();
+    for (int t = 0; t < threads; ++t) {
+      const double* s = part + (static_cast<size_t>(t) * nb + b) * 9;
+      for (int a = 0; a < 3; ++a) {
+        F[a] += s[a];
+        mr[a] += s[3 + a];
+        T[a] += s[6 + a];
+      }
+    }
+    const double M = B.state.mass;
+    shift[b] = mr / M;  // current centre of mass - X
+    T -= shift[b].cross(F);  // torque about the current centre of mass
+    for (int a = 0; a < D; ++a) F[a] += M * gravity_[static_cast<size_t>(a)];
+    B.force = F;
+    B.torque = T;
+    constrain(B, F, T, B.acc, B.alphaTorque);
+    if (!B.started) {
+      B.accStart = B.acc;
+      B.alphaTorqueStart = B.alphaTorque;
+      B.started = true;
+    }
+  }
+  // Rigid acceleration of each body particle: A + alpha x r + omega x (omega x r).
+  std::vector<V3>& alpha = alpha_;
+  std::vector<V3>& omega = omega_;
+  alpha.assign(nb, V3::Zero());
+  omega.assign(nb, V3::Zero());
+  for (size_t b = 0; b < nb; ++b) {
+    omega[b] = bodies_[b].state.omega();
+    alpha[b] = bodies_[b].state.angularAcceleration(bodies_[b].alphaTorque);
+    if (!materialOf(bodies_[b].material)->rotate) alpha[b].setZero();
+  }
+#pragma omp parallel for schedule(static)
+  for (Index i = 0; i < n; ++i) {
+    const int b = body[i];
+    if (b < 0) continue;
+    if (mo[i] == kMotionFixed) {
+      for (int a = 0; a < D; ++a) acc[i * D + a] = 0.0;
+      continue;
+    }
+    const RigidBody& B = bodies_[static_cast<size_t>(b)];
+    const V3 r = lever(i, B.state.X) - shift[static_cast<size_t>(b)];
+    const V3& w = omega[static_cast<size_t>(b)];
+    const V3 a = B.acc + alpha[static_cast<size_t>(b)].cross(r) + w.cross(w.cross(r));
+    for (int c = 0; c < D; ++c) acc[i * D + c] = a[c];
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Newton-Euler step (kick-drift-kick) and placement of the particles
+// ---------------------------------------------------------------------------------------------
+void RigidModule::endOfStep(Simulation& sim, double dt) {
+  if (bodies_.empty()) return;
+  for (RigidBody& B : bodies_) {
+    const RigidMaterial& rm = *materialOf(B.material);
+    if (rm.fixed) continue;
+    rigid::BodyState& s = B.state;
+    if (!B.started) {  // no evaluation yet: forces unknown
+      B.accStart = B.acc;
+      B.alphaTorqueStart = B.alphaTorque;
+    }
+    // kick (forces at the start of the step), drift, kick (forces of the step's evaluation)
+    s.V += 0.5 * dt * B.accStart;
+    s.L += 0.5 * dt * B.alphaTorqueStart;
+    s.X += dt * s.V;
+    if (rm.rotate && dim_ > 1) s.rotateFree(dt);
+    s.V += 0.5 * dt * B.acc;
+    s.L += 0.5 * dt * B.alphaTorque;
+    B.accStart = B.acc;
+    B.alphaTorqueStart = B.alphaTorque;
+  }
+  dispatchDimension(dim_, [&](auto dc) { this->placeD<decltype(dc)::value>(sim, -1); });
+}
+
+// ---------------------------------------------------------------------------------------------
+// time step and diagnostics
+// ---------------------------------------------------------------------------------------------
+double RigidModule::timeStepLimit(const Simulation& sim) const {
+  double dt = std::numeric_limits<double>::infinity();
+  if (bodies_.empty()) return dt;
+  const double h = sim.kernel.h();
+  // Eq. 2.49 over the body particles: 0.25 h / |v|_max, 0.25 sqrt(h / |a|_max).
+  const ParticleStore& st = sim.store;
+  const Index n = st.realCount();
+  const int d = dim_;
+  const std::int32_t* body = st.data(body_);
+  const double* v = st.data(st.velocity());
+  const double* a = st.data(sim.acceleration);
+  double v2 = 0.0, a2 = 0.0;
+#pragma omp parallel for schedule(static) reduction(max : v2, a2)
+  for (Index i = 0; i < n; ++i) {
+    if (body[i] < 0) continue;
+    double sv = 0.0, sa = 0.0;
+    for (int c = 0; c < d; ++c) {
+      sv += v[i * d + c] * v[i * d + c];
+      sa += a[i * d + c] * a[i * d + c];
+    }
+    v2 = std::max(v2, sv);
+    a2 = std::max(a2, sa);
+  }
+  if (v2 > 0.0) dt = std::min(dt, 0.25 * h / std::sqrt(v2));
+  if (a2 > 0.0) dt = std::min(dt, 0.25 * std::sqrt(h / std::sqrt(a2)));
+  // Contacts of stiffness k (A.17-A.18): the wave speed sqrt(k / rho) of the lightest body.
+  if (maxContactModulus_ > 0.0)
+    dt = std::min(dt, 0.25 * h / std::sqrt(maxContactModulus_ / minRigidDensity_));
+  return dt;
+}
+
+void RigidModule::diagnostics(const Simulation& sim,
+                              std::vector<std::pair<std::string, double>>& columns) const {
+  const char* axis[3] = {"x", "y", "z"};
+  const int d = dim_;
+  const bool each = bodies_.size() <= 8;
+  for (size_t b = 0; b < bodies_.size(); ++b) {
+    const RigidBody& B = bodies_[b];
+    const RigidMaterial& rm = *materialOf(B.material);
+    const std::string pre = "body" + std::to_string(b) + "_";
+    if (rm.plate) {
+      const V3 dir(rm.plateDirection[0], rm.plateDirection[1], rm.plateDirection[2]);
+      columns.emplace_back("plate" + std::to_string(b) + "_displacement",
+                           (B.state.X - B.X0).dot(dir));
+      // force the plate receives from the scene along its direction (minus the load when static)
+      columns.emplace_back("plate" + std::to_string(b) + "_force", B.force.dot(dir));
+      continue;
+    }
+    if (!each) continue;
+    for (int a = 0; a < d; ++a) columns.emplace_back(pre + axis[a], B.state.X[a]);
+    for (int a = 0; a < d; ++a) columns.emplace_back(pre + "v" + axis[a], B.state.V[a]);
+    const V3 w = B.state.omega();
+    if (d == 2) columns.emplace_back(pre + "omega_z", w.z());
+    if (d == 3)
+      for (int a = 0; a < 3; ++a) columns.emplace_back(pre + "omega_" + axis[a], w[a]);
+    for (int a = 0; a < d; ++a) columns.emplace_back(pre + "f" + axis[a], B.force[a]);
+  }
+}
+
+PORESPH_REGISTER_MODULE(RigidModule, "rigid")
+
+}  // namespace poresph

@@ -1,0 +1,132 @@
+#pragma once
+// Rigid bodies made of particles (module "rigid", material model "rigid"; thesis Appendix A,
+// docs/rigid.md): quartz and calcite inclusions of the clay, and the plates that confine a sample.
+//
+// Bodies: every connected cluster of particles of one rigid material (lattice neighbours at one
+// spacing, as the 6-connected clusters of a voxel image) is one body; int field `body` (-1 for
+// other particles), body-frame offsets in `body_offset`. Per-body state (physics/rigid/
+// rigid_body.hpp) lives outside the per-particle arrays: mass, centre of mass (A.7), principal
+// inertia (A.8), unit quaternion, velocity, angular momentum.
+//
+// Each rate evaluation, constraints() sums the force and torque that every other module put on
+// the body's particles (A.9-A.10, one parallel reduction with per-thread partial sums), adds
+// gravity and the plate load, applies the body's constraints and writes the rigid acceleration
+// A + alpha x r + omega x (omega x r) into each body particle's acceleration, so that the scene's
+// integrator predicts the body particles along the rigid motion during the step. After the step,
+// endOfStep() advances the body state (kick-drift-kick with the forces of the step's start and of
+// its evaluation: velocity Verlet, A.11-A.14; free rotation by the implicit midpoint rule, which
+// conserves angular momentum and energy) and places the particles exactly: x = X + R r_body,
+// v = V + omega x R r_body.
+//
+// Pair classes owned (action = reaction in each):
+//   fluid-rigid  moving wall: the fluid sees the body particles through the extrapolated pressure
+//                and no-slip velocity (fluid module) and the shared pair terms of
+//                libcore/fluid_pair_terms.hpp; +F on the fluid particle, -F on the body particle;
+//                the continuity sum of the fluid over its rigid neighbours (Eq. 5.1a).
+//   rigid-solid, rigid-rigid (different bodies), rigid-wall: the repulsion of Eq. A.18
+//                (libcore/contact_repulsion.hpp) with the bulk modulus of the stiffer side (A.17).
+//
+// Constraints (material keys): fixed bodies, translation along chosen axes only, no rotation,
+// and force-controlled plates (a plate pushed along `direction` by stress x area that moves to
+// keep it; its displacement is a timeseries column).
+#include <array>
+#include <string>
+#include <vector>
+
+#include "libcore/fluid_pair_terms.hpp"
+#include "libcore/module.hpp"
+#include "libcore/particle_store.hpp"
+#include "physics/rigid/rigid_body.hpp"
+
+namespace poresph {
+
+/// Parameters of one "rigid" material.
+struct RigidMaterial {
+  int id = -1;
+  std::string name;
+  double density = 0.0;
+  double contactModulus = 0.0;          ///< k of Eq. A.17/A.18 for rigid-rigid and rigid-wall pairs
+  bool fixed = false;
+  std::array<double, 3> translate{1, 1, 1};  ///< 1: free along the world axis, 0: locked
+  bool rotate = true;
+  std::array<double, 3> angularVelocity{0, 0, 0};  ///< initial omega (world frame)
+  bool plate = false;
+  std::array<double, 3> plateDirection{0, 0, 0};  ///< unit vector the load pushes the plate along
+  double plateStress = 0.0, plateArea = 0.0, plateDamping = 0.0;
+  std::string where;  ///< "file:line: materials[k]" for messages
+};
+
+/// One body: Newton-Euler state plus what the module needs around it.
+struct RigidBody {
+  rigid::BodyState state;
+  int material = -1;
+  Index count = 0;
+  rigid::V3 X0 = rigid::V3::Zero();   ///< initial centre of mass
+  rigid::V3 force = rigid::V3::Zero(), torque = rigid::V3::Zero();  ///< last evaluation (raw)
+  rigid::V3 accStart = rigid::V3::Zero(), alphaTorqueStart = rigid::V3::Zero();
+  rigid::V3 acc = rigid::V3::Zero(), alphaTorque = rigid::V3::Zero();  ///< constrained
+  bool started = false;
+};
+
+/// Bodies found in a store (connected clusters of rigid particles): body index of each particle
+/// (-1: none) and the bodies with mass, centre of mass and inertia set. Throws InputError for a
+/// body of one particle or with zero inertia about an axis. Used by initialise() and describe().
+struct BodyPartition {
+  std::vector<std::int32_t> bodyOf;
+  std::vector<RigidBody> bodies;
+};
+
+class RigidModule : public Module {
+ public:
+  std::string name() const override { return "rigid"; }
+  std::vector<std::string> materialModels() const override { return {"rigid"}; }
+  std::vector<PairClass> ownedPairs() const override {
+    return {PairClass(kPhaseFluid, kPhaseRigid), PairClass(kPhaseSolid, kPhaseRigid),
+            PairClass(kPhaseRigid, kPhaseRigid), PairClass(kPhaseWall, kPhaseRigid)};
+  }
+  void configure(Simulation& sim, const std::vector<const Material*>& materials,
+                 const ParameterSet* section) override;
+  void initialise(Simulation& sim) override;
+  void interfaces(Simulation& sim) override;
+  void constraints(Simulation& sim) override;
+  void endOfStep(Simulation& sim, double dt) override;
+  double timeStepLimit(const Simulation& sim) const override;
+  void diagnostics(const Simulation& sim,
+                   std::vector<std::pair<std::string, double>>& columns) const override;
+
+  /// Bodies, masses and inertia as `poresph info` prints them (before initialise()).
+  std::string describe(const Simulation& sim) const override;
+
+  // ---- for tests and tools ----
+  const std::vector<RigidBody>& bodies() const { return bodies_; }
+  /// Sets a body's velocity and angular velocity (world frame) and re-places its particles.
+  void setBodyVelocity(Simulation& sim, size_t body, const rigid::V3& V, const rigid::V3& omega);
+  /// Body partition of the current store (connected clusters); throws for bad bodies.
+  BodyPartition partition(const Simulation& sim) const;
+
+ private:
+  template <int D> void interfacesD(Simulation& sim);
+  template <int D> void constraintsD(Simulation& sim);
+  template <int D> void placeD(Simulation& sim, int onlyBody);
+  const RigidMaterial* materialOf(int id) const;
+  void constrain(RigidBody& b, const rigid::V3& force, const rigid::V3& torque, rigid::V3& acc,
+                 rigid::V3& torqueOut) const;
+
+  int dim_ = 3;
+  std::vector<RigidMaterial> mats_;
+  std::vector<int> slot_;  // material id -> index in mats_ (-1: not rigid)
+  std::array<double, 3> gravity_{0, 0, 0};
+  BoundaryModel fluidModel_ = BoundaryModel::Mirror;
+  IntField body_;
+  RealField offset_;
+  RealField pressure_, wallVelocity_, viscousFactor_, densityRate_;
+  bool fluidPairs_ = false;
+  std::vector<double> solidModulus_;  // by material id: rho0 c^2 of solid materials (A.17)
+  double maxContactModulus_ = 0.0, minRigidDensity_ = 0.0;
+  std::vector<RigidBody> bodies_;
+  std::vector<double> partial_;  // per-thread partial sums of the reduction (9 per body)
+  std::vector<rigid::V3> shift_, alpha_, omega_;  // per-body scratch of constraints()
+  int threads_ = 1;
+};
+
+}  // namespace poresph

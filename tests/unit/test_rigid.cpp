@@ -1,0 +1,115 @@
+// Rigid bodies (physics/rigid, docs/rigid.md): bodies from geometry, refused bodies, parameters,
+// the info summary, the A.18 pair term and the free-rotation step.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "libcore/contact_repulsion.hpp"
+#include "libcore/integrator.hpp"
+#include "libcore/scene.hpp"
+#include "physics/rigid/rigid_module.hpp"
+
+using namespace poresph;
+using rigid::V3;
+
+namespace {
+
+std::string scene2d(const std::string& material, const std::string& geometry) {
+  return "dimension: 2\n"
+         "domain: {lo: [0, 0], hi: [1, 1]}\n"
+         "spacing: 0.1\n"
+         "end_time: 1\n"
+         "time_step: {dt: 1.0e-3}\noutput: {every_steps: 100}\n"
+         "materials:\n  - " + material + "\n"
+         "geometry:\n" + geometry;
+}
+
+std::string errorOf(const std::string& text, const std::string& name = "bad.yaml") {
+  try {
+    loadSceneText(text, name);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST(Rigid, EachConnectedClusterOfARigidMaterialIsOneBody) {
+  Scene s = loadSceneText(scene2d("{name: grain, model: rigid, density: 2000}",
+                                  "  - {shape: box, lo: [0.1, 0.1], hi: [0.3, 0.4], material: grain}\n"
+                                  "  - {shape: sphere, centre: [0.7, 0.7], radius: 0.15, material: grain}\n"),
+                          "two.yaml");
+  auto* rigid = dynamic_cast<RigidModule*>(s.sim->module("rigid"));
+  ASSERT_NE(rigid, nullptr);
+  ASSERT_EQ(rigid->bodies().size(), 2u);
+  const RigidBody& box = rigid->bodies()[0];
+  EXPECT_EQ(box.count, 6);
+  EXPECT_NEAR(box.state.mass, 6 * 2000 * 0.01, 1e-9);
+  EXPECT_NEAR(box.state.X[0], 0.2, 1e-12);
+  EXPECT_NEAR(box.state.X[1], 0.25, 1e-12);
+  // A.8 about the centre: sum m (x^2 + y^2) of 2 x 3 points at +-0.05, (-0.1, 0, 0.1).
+  const double m = 20.0;
+  EXPECT_NEAR(box.state.Ib[2], m * (6 * 0.0025 + 4 * 0.01), 1e-9);
+  const std::string info = describeScene(s);
+  EXPECT_NE(info.find("rigid bodies: 2"), std::string::npos) << info;
+  EXPECT_NE(info.find("mass 120 kg/m"), std::string::npos) << info;
+}
+
+TEST(Rigid, RefusesBadBodiesWithClearMessages) {
+  // One particle: no inertia.
+  std::string e = errorOf(scene2d("{name: grain, model: rigid, density: 2000}",
+                                  "  - {shape: box, lo: [0.4, 0.4], hi: [0.5, 0.5], material: grain}\n"));
+  EXPECT_NE(e.find("single particle"), std::string::npos) << e;
+  EXPECT_NE(e.find("grain"), std::string::npos) << e;
+  // A line of particles in 3D: zero inertia about its axis.
+  e = errorOf("dimension: 3\ndomain: {lo: [0, 0, 0], hi: [1, 1, 1]}\nspacing: 0.1\nend_time: 1\n"
+              "time_step: {dt: 1.0e-3}\noutput: {every_steps: 100}\nmaterials:\n  - {name: rod, model: rigid, density: 2000}\n"
+              "geometry:\n  - {shape: box, lo: [0.2, 0.4, 0.4], hi: [0.8, 0.5, 0.5], material: rod}\n");
+  EXPECT_NE(e.find("zero moment of inertia"), std::string::npos) << e;
+  EXPECT_NE(e.find("rotate: false"), std::string::npos) << e;
+  // ... accepted when the body may not rotate.
+  EXPECT_EQ(errorOf("dimension: 3\ndomain: {lo: [0, 0, 0], hi: [1, 1, 1]}\nspacing: 0.1\n"
+                    "end_time: 1\ntime_step: {dt: 1.0e-3}\noutput: {every_steps: 100}\nmaterials:\n"
+                    "  - {name: rod, model: rigid, density: 2000, rotate: false}\ngeometry:\n"
+                    "  - {shape: box, lo: [0.2, 0.4, 0.4], hi: [0.8, 0.5, 0.5], material: rod}\n"),
+            "");
+  // Bad parameters name the key.
+  e = errorOf(scene2d("{name: grain, model: rigid, density: 2000, translate: [1, 2]}",
+                      "  - {shape: box, lo: [0.1, 0.1], hi: [0.3, 0.4], material: grain}\n"));
+  EXPECT_NE(e.find("translate"), std::string::npos) << e;
+  e = errorOf(scene2d("{name: grain, model: rigid, density: 2000, fixed: true, plate: {direction: "
+                      "[0, -1], stress: 1, area: 1}}",
+                      "  - {shape: box, lo: [0.1, 0.1], hi: [0.3, 0.4], material: grain}\n"));
+  EXPECT_NE(e.find("plate"), std::string::npos) << e;
+  e = errorOf(scene2d("{name: grain, model: rigid, density: 2000, spin: 3}",
+                      "  - {shape: box, lo: [0.1, 0.1], hi: [0.3, 0.4], material: grain}\n"));
+  EXPECT_NE(e.find("spin"), std::string::npos) << e;
+}
+
+TEST(Rigid, SymmetricRepulsionIsActionEqualsReaction) {
+  const Vec<2> r(0.03, 0.04);  // |r| = 0.05 < dx
+  const Vec<2> fa = pairRepulsion<2>(r, 0.05, 1.0, 3.0, 1e6, 0.1);
+  const Vec<2> fb = pairRepulsion<2>(Vec<2>(-r), 0.05, 3.0, 1.0, 1e6, 0.1);
+  EXPECT_NEAR((fa + fb).norm(), 0.0, 1e-12 * fa.norm());
+  EXPECT_GT(fa.dot(r), 0.0);  // pushes a away from b
+  // B(r) = 2 k dx (1 - r/dx) in 2D, weight 2 m_a m_b / (m_a + m_b)^2 = 3/8.
+  EXPECT_NEAR(fa.norm(), 0.375 * 2.0 * 1e6 * 0.1 * 0.5, 1e-6);
+  EXPECT_EQ(pairRepulsion<2>(r, 0.05, 1.0, 1.0, 1e6, 0.04).norm(), 0.0);
+}
+
+TEST(Rigid, FreeRotationStepKeepsBothInvariants) {
+  rigid::BodyState s;
+  s.Ib = V3(1.0, 2.0, 3.0);
+  s.q = Eigen::Quaterniond(Eigen::AngleAxisd(0.3, V3(1, 2, 3).normalized()));
+  s.L = V3(0.4, -1.0, 2.0);
+  const V3 L0 = s.L;
+  const double E0 = s.rotationalEnergy();
+  for (int k = 0; k < 1000; ++k) s.rotateFree(0.05);  // |omega| dt ~ 0.04
+  EXPECT_NEAR((s.L - L0).norm(), 0.0, 1e-15);
+  EXPECT_NEAR(s.rotationalEnergy(), E0, 1e-13 * E0);
+  EXPECT_NEAR(s.q.norm(), 1.0, 1e-14);
+  // The orientation did change (the body tumbles).
+  EXPECT_GT(std::abs(s.R()(0, 1)), 1e-3);
+}
