@@ -7,7 +7,20 @@
 
 namespace poresph {
 
+std::uint8_t ImageGrid::memberAt(const double* x, int dim) const {
+  std::size_t index = 0, stride = 1;
+  for (int a = 0; a < 3; ++a) {
+    const double u = a < dim ? (x[a] - origin[static_cast<size_t>(a)]) / voxel : 0.0;
+    const long long i = static_cast<long long>(std::floor(u));
+    if (i < 0 || i >= n[static_cast<size_t>(a)]) return kNoMember;
+    index += static_cast<std::size_t>(i) * stride;
+    stride *= static_cast<std::size_t>(n[static_cast<size_t>(a)]);
+  }
+  return member[index];
+}
+
 bool Region::contains(const double* x, int dim, double tol) const {
+  if (shape == Shape::Image) return image && image->memberAt(x, dim) == imageMember;
   if (shape == Shape::Box) {
     for (int a = 0; a < dim; ++a)
       if (x[a] < lo[static_cast<size_t>(a)] - tol || x[a] > hi[static_cast<size_t>(a)] + tol)
@@ -27,7 +40,7 @@ void Region::bounds(int dim, std::array<double, 3>& blo, std::array<double, 3>& 
   for (size_t a = 0; a < 3; ++a) {
     if (static_cast<int>(a) >= dim) {
       blo[a] = bhi[a] = 0.0;
-    } else if (shape == Shape::Box) {
+    } else if (shape == Shape::Box || shape == Shape::Image) {
       blo[a] = lo[a];
       bhi[a] = hi[a];
     } else {
@@ -183,6 +196,39 @@ void paint(std::vector<Run>& runs, std::vector<Run>& scratch, long long a, long 
   runs.swap(scratch);
 }
 
+/// An image group (regions k .. k + members - 1) in row (iy, iz): its box clears what earlier
+/// regions put there, then each voxel of the row goes to the region of its member (none: empty).
+/// x holds the row's site coordinates along y and z.
+void imageRow(const std::vector<Region>& regions, size_t k, const RegionRange& rr, const Lattice& lat,
+              const double* x, std::vector<Run>& runs, std::vector<Run>& scratch) {
+  const ImageGrid& g = *regions[k].image;
+  const int dim = lat.dim;
+  auto voxelIndex = [&](int a, double coord) {
+    return std::llround((coord - g.origin[static_cast<size_t>(a)]) / g.voxel - 0.5);
+  };
+  const long long j = dim > 1 ? voxelIndex(1, x[1]) : 0, kz = dim > 2 ? voxelIndex(2, x[2]) : 0;
+  if (j < 0 || j >= g.n[1] || kz < 0 || kz >= g.n[2]) return;
+  const long long a = rr.r0[0], b = rr.r1[0];
+  paint(runs, scratch, a, b, -1);
+  const size_t base = (static_cast<size_t>(kz) * static_cast<size_t>(g.n[1]) + static_cast<size_t>(j)) *
+                      static_cast<size_t>(g.n[0]);
+  const long long i0 = voxelIndex(0, lat.site(0, a));
+  Run cur{0, -1, -1};
+  for (long long ix = a; ix <= b; ++ix) {
+    const long long i = i0 + (ix - a);
+    const int m = i >= 0 && i < g.n[0] ? g.member[base + static_cast<size_t>(i)] : ImageGrid::kNoMember;
+    const int owner = m == ImageGrid::kNoMember ? -1 : static_cast<int>(k) + m;
+    if (owner == cur.owner && cur.b == ix - 1) {
+      cur.b = ix;
+      continue;
+    }
+    if (cur.owner >= 0) runs.push_back(cur);
+    cur = {ix, ix, owner};
+  }
+  if (cur.owner >= 0) runs.push_back(cur);
+  std::sort(runs.begin(), runs.end(), [](const Run& p, const Run& q) { return p.a < q.a; });
+}
+
 /// The filled sites of row (iy, iz), as runs of one owner each, sorted along x: every region is
 /// convex, so its sites in a row are one interval, found from its bounds and refined with
 /// Region::contains (the same test as a site-by-site fill).
@@ -200,6 +246,10 @@ void rowRuns(const std::vector<Region>& regions, const std::vector<RegionRange>&
     if (rr.empty) continue;
     if (dim > 1 && (iy < rr.r0[1] || iy > rr.r1[1])) continue;
     if (dim > 2 && (iz < rr.r0[2] || iz > rr.r1[2])) continue;
+    if (r.shape == Region::Shape::Image) {
+      if (r.imageMember == 0) imageRow(regions, k, rr, lat, x, runs, scratch);
+      continue;
+    }
     long long a = rr.r0[0], b = rr.r1[0];
     if (r.shape == Region::Shape::Sphere) {
       double d2 = 0.0;

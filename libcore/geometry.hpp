@@ -13,6 +13,7 @@
 // region with no material (material: none in the scene) subtracts: its sites hold no particle.
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -21,8 +22,23 @@
 
 namespace poresph {
 
+/// A label image placed on the lattice (geometry shape `image`, libcore/image_scene.hpp): voxel
+/// (i, j, k) is the lattice site at origin + (i + 1/2, j + 1/2, k + 1/2) voxel, voxel = spacing.
+/// Each voxel names the member of the image's region group that owns it (one region per material
+/// of the label map), or kNoMember for no particle.
+struct ImageGrid {
+  static constexpr std::uint8_t kNoMember = 255;
+  std::array<int, 3> n{1, 1, 1};                ///< voxels along x, y, z (z = 1 for a 2D image)
+  double voxel = 0.0;                           ///< edge length (m), equal to the spacing
+  std::array<double, 3> origin{0.0, 0.0, 0.0};  ///< lower corner of voxel (0, 0, 0)
+  std::vector<std::uint8_t> member;             ///< per voxel, x fastest
+  int members = 0;
+  /// Member of the voxel holding point x (dim components), or kNoMember outside the image.
+  std::uint8_t memberAt(const double* x, int dim) const;
+};
+
 struct Region {
-  enum class Shape { Box, Sphere };
+  enum class Shape { Box, Sphere, Image };
   Shape shape = Shape::Box;
   std::array<double, 3> lo{0.0, 0.0, 0.0};      ///< box: lower corner
   std::array<double, 3> hi{0.0, 0.0, 0.0};      ///< box: upper corner
@@ -32,6 +48,10 @@ struct Region {
   std::int32_t motion = 0;                      ///< Motion (libcore/simulation.hpp)
   std::array<double, 3> velocity{0.0, 0.0, 0.0};///< initial (or imposed) velocity, m/s
   std::string where;                            ///< "file:line: geometry[k]" for messages
+  /// Image: the grid shared by the group's regions, and which member this region is. The group
+  /// is consecutive regions (members 0 .. members-1); lo / hi are the image's box.
+  std::shared_ptr<const ImageGrid> image;
+  int imageMember = 0;
 
   bool subtracts() const { return material < 0; }
   /// Whether point x (dim components) lies in the region, with a tolerance tol on the boundary.

@@ -999,6 +999,8 @@ VoxelImage applyLabels(const RawVolume& v, const LabelRule& rule) {
   VoxelImage img(v.n[0], v.n[1], v.n[2]);
   std::uint8_t* out = const_cast<std::uint8_t*>(img.values().data());
   std::vector<Index> used(256, 0);
+  std::vector<Index> usedValue;                      // map: voxels per map entry
+  std::vector<std::pair<double, int>> sortedMap;     // map entries in value order
   auto refuse = [&](double value, Index i, const std::string& why) {
     Index count = 0;
     for (Index k = 0; k < n; ++k) count += v.value(k) == value || (std::isnan(value) && std::isnan(v.value(k)));
@@ -1022,18 +1024,23 @@ VoxelImage applyLabels(const RawVolume& v, const LabelRule& rule) {
     for (size_t k = 1; k < sorted.size(); ++k)
       if (sorted[k].first == sorted[k - 1].first && sorted[k].second != sorted[k - 1].second)
         throw InputError(v.source + ": value " + numText(sorted[k].first) + " is mapped twice");
+    sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
     std::string listed;
     for (const auto& p : sorted) listed += (listed.empty() ? "" : ", ") + numText(p.first);
+    usedValue.assign(sorted.size(), 0);
+    sortedMap = sorted;
     if (v.type == VoxelType::UInt8 || v.type == VoxelType::UInt16) {
       std::vector<int> table(v.type == VoxelType::UInt8 ? 256 : 65536, -1);
-      for (const auto& p : sorted)
-        if (p.first >= 0 && p.first < static_cast<double>(table.size()) && p.first == std::floor(p.first))
-          table[static_cast<size_t>(p.first)] = p.second;
+      for (size_t k = 0; k < sorted.size(); ++k) {
+        const double x = sorted[k].first;
+        if (x >= 0 && x < static_cast<double>(table.size()) && x == std::floor(x))
+          table[static_cast<size_t>(x)] = static_cast<int>(k);
+      }
       for (Index i = 0; i < n; ++i) {
-        const int l = table[static_cast<size_t>(v.value(i))];
-        if (l < 0) refuse(v.value(i), i, "has no entry in the label map (values mapped: " + listed + ")");
-        out[i] = static_cast<std::uint8_t>(l);
-        ++used[static_cast<size_t>(l)];
+        const int k = table[static_cast<size_t>(v.value(i))];
+        if (k < 0) refuse(v.value(i), i, "has no entry in the label map (values mapped: " + listed + ")");
+        out[i] = static_cast<std::uint8_t>(sorted[static_cast<size_t>(k)].second);
+        ++usedValue[static_cast<size_t>(k)];
       }
     } else {
       for (Index i = 0; i < n; ++i) {
@@ -1042,7 +1049,7 @@ VoxelImage applyLabels(const RawVolume& v, const LabelRule& rule) {
         if (it == sorted.end() || it->first != x)
           refuse(x, i, "has no entry in the label map (values mapped: " + listed + ")");
         out[i] = static_cast<std::uint8_t>(it->second);
-        ++used[static_cast<size_t>(it->second)];
+        ++usedValue[static_cast<size_t>(it - sorted.begin())];
       }
     }
   } else {
@@ -1064,8 +1071,11 @@ VoxelImage applyLabels(const RawVolume& v, const LabelRule& rule) {
       check(rule.below, "no value lies below the threshold " + numText(rule.level));
       check(rule.above, "no value lies at or above the threshold " + numText(rule.level));
     }
-    for (const auto& [value, label] : rule.map)
-      check(label, "value " + numText(value));
+    for (size_t k = 0; k < sortedMap.size(); ++k)
+      if (usedValue[k] == 0)
+        throw InputError(v.source + ": value " + numText(sortedMap[k].first) + " (label " +
+                         std::to_string(sortedMap[k].second) + ") has no voxel in the " +
+                         shapeText(v.n) + " image: an empty phase");
   }
   return img;
 }

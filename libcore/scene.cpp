@@ -8,6 +8,7 @@
 #include <map>
 #include <sstream>
 
+#include "libcore/image_scene.hpp"
 #include "libcore/integrator.hpp"
 #include "libcore/memory.hpp"
 
@@ -266,7 +267,14 @@ Scene buildScene(const YAML::Node& root, const std::string& file, const SceneOpt
       const ParameterSet& g = regs[k];
       Region r;
       r.where = g.where("shape");
-      const std::string shape = g.choice("shape", {"box", "sphere"});
+      const std::string shape = g.choice("shape", {"box", "sphere", "image"});
+      if (shape == "image") {  // one region per material of its label map (libcore/image_scene.hpp)
+        YAML::Node e;
+        appendImageRegions(g, sim, scene.regions, e);
+        g.finish();
+        res["geometry"].push_back(e);
+        continue;
+      }
       if (shape == "box") {
         r.shape = Region::Shape::Box;
         r.lo = toArray(g.reals("lo", static_cast<size_t>(dim)));
