@@ -906,6 +906,17 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
     const double* Fg = s.data(defGrad_);
     const double* X = s.data(refPos_);
     const int cap = familyCapacity_;
+    // separations of family members across a periodic face: minimum image (the family holds
+    // particle ids, not images)
+    const std::array<double, 3> L = period_;
+    const bool periodic = L[0] > 0.0 || L[1] > 0.0 || L[2] > 0.0;
+    auto minimumImage = [&](Vec<D> d) {
+      if (periodic)
+        for (int a = 0; a < D; ++a)
+          if (L[static_cast<size_t>(a)] > 0.0)
+            d[a] -= L[static_cast<size_t>(a)] * std::round(d[a] / L[static_cast<size_t>(a)]);
+      return d;
+    };
 #pragma omp parallel for schedule(static) if (n > 512)
     for (Index i = 0; i < n; ++i) {
       const int k = slotOf(mat[i]);
@@ -931,7 +942,7 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
         const Vec<D> vji = Eigen::Map<const Vec<D>>(v + j * D) - vi;
         Fdot.noalias() += Vj * vji * g.transpose();  // 2.68
         if (av) {
-          const Vec<D> rij = xi - Eigen::Map<const Vec<D>>(x + j * D);
+          const Vec<D> rij = minimumImage(Vec<D>(xi - Eigen::Map<const Vec<D>>(x + j * D)));
           const double Pi_ab = viscosity(e, ej, -vji, rij, rho[i], rho[j]);
           fav.noalias() -= m[j] * Pi_ab * 0.5 * (g - gr);  // antisymmetrised reference gradient
         }
@@ -939,8 +950,8 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
           // Hourglass control (Ganzenmueller 2015): the part of the pair's current separation
           // that the particles' own F do not predict is pushed back along the pair, with a
           // spring of stiffness hourglass * E * W0 / |X_ab|^2; zero for any linear field.
-          const Vec<D> Xji = Eigen::Map<const Vec<D>>(X + j * D) - Xi;
-          const Vec<D> xji = Eigen::Map<const Vec<D>>(x + j * D) - xi;
+          const Vec<D> Xji = minimumImage(Vec<D>(Eigen::Map<const Vec<D>>(X + j * D) - Xi));
+          const Vec<D> xji = minimumImage(Vec<D>(Eigen::Map<const Vec<D>>(x + j * D) - xi));
           const double dist = xji.norm();
           if (dist > 0.0) {
             const Vec<D> ev = xji / dist;
@@ -954,7 +965,7 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
           }
         }
         if (e.xsph > 0.0) {  // 2.66, over the reference family with the current distance
-          const double w = W.value((xi - Eigen::Map<const Vec<D>>(x + j * D)).norm());
+          const double w = W.value(minimumImage(Vec<D>(xi - Eigen::Map<const Vec<D>>(x + j * D))).norm());
           dvx.noalias() += m[j] * 2.0 * vji / (rho[i] + rho[j]) * w;
         }
       }
@@ -1050,6 +1061,9 @@ void ElasticSolidModule::constraintsDim(Simulation& sim) {
   double* acc = s.data(sim.acceleration);
   double* workRate = s.data(workRate_);
   const double t = sim.time;
+  // the integrator's velocity state (libcore/integrator.cpp, registered at its first step)
+  double* vInt = anyPartial_ && s.has("integrator_velocity") ? s.data(s.real("integrator_velocity"))
+                                                             : nullptr;
 #pragma omp parallel for schedule(static) if (n > 512)
   for (Index i = 0; i < n; ++i) {
     if (bc[i] <= 0 || slotOf(mat[i]) < 0) continue;
@@ -1066,7 +1080,12 @@ void ElasticSolidModule::constraintsDim(Simulation& sim) {
       const double rdot = B.type == BoundaryType::Velocity ? rampRate(t, B.rampTime) : 0.0;
       double power = 0.0;
       for (int c = 0; c < D; ++c) {
+        if (!B.imposed[static_cast<size_t>(c)]) continue;  // free component (roller)
         const double target = B.value[static_cast<size_t>(c)] * r;
+        // A free particle with imposed components: its integrator state (the staggered or
+        // half-kicked velocity of Eqs. 2.47-2.48) takes the imposed value too, so that the
+        // position follows the imposed velocity whatever the scheme.
+        if (B.partial && vInt) vInt[i * D + c] = target;
         // the agent holding the particle supplies m (dv/dt - a_internal)
         power += target * m[i] * (B.value[static_cast<size_t>(c)] * rdot - acc[i * D + c]);
         v[i * D + c] = target;

@@ -197,7 +197,6 @@ class ElasticSolidModule : public Module {
   /// periodic face use minimum-image separations.
   std::array<double, 3> period_{0, 0, 0};
   bool anyPartial_ = false;  ///< some boundary imposes only some components
-  RealField integratorVelocity_;  ///< the integrator's velocity state (partial boundaries)
 };
 
 }  // namespace solid
