@@ -230,8 +230,9 @@ struct DropletRun {
 };
 
 // Runs the oscillating droplet and fits the mode-2 signal (see the header).
+// extraKeys: extra keys of the fluid section (", key: value"); by default OSC_EXTRA.
 inline DropletRun runDroplet(double rdx, double boxR, double mu, double pb, double eps, double c, double periods,
-                      double tRef) {
+                      double tRef, const char* extraKeys = nullptr) {
   test::Stopwatch clock;
   Simulation sim(2);
   const double R0 = 1.5e-3, dx = R0 / rdx, B = boxR * R0, gamma = env("OSC_GAMMA", 0.05);
@@ -246,8 +247,8 @@ inline DropletRun runDroplet(double rdx, double boxR, double mu, double pb, doub
   std::snprintf(buf, sizeof buf, "{density: 1000, sound_speed: %g, viscosity: %g, colour: -1, background_pressure: %g}", c, mu, pb);
   const int gas = fs::addMaterial(sim, "gas", "fluid", buf);
   // OSC_EXTRA: extra keys of the fluid section (", key: value", manual studies)
-  std::snprintf(buf, sizeof buf, "{surface_tension: %g%s}", gamma,
-                std::getenv("OSC_EXTRA") ? std::getenv("OSC_EXTRA") : "");
+  const char* extra = extraKeys ? extraKeys : std::getenv("OSC_EXTRA") ? std::getenv("OSC_EXTRA") : "";
+  std::snprintf(buf, sizeof buf, "{surface_tension: %g%s}", gamma, extra);
   FluidModule* fluid = fs::addFluidModule(sim, buf);
   auto inside = [&](const double* x) {
     const double X = x[0] - 0.5 * B, Y = x[1] - 0.5 * B;
