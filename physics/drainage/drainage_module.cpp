@@ -132,13 +132,16 @@ bool DrainageModule::percolates(const Simulation& sim) const {
       if (ri != rj) parent_[static_cast<size_t>(std::max(ri, rj))] = std::min(ri, rj);
     }
   }
-  // Roots touching the low reservoir, then any particle of the high reservoir in one of them.
+  // Breakthrough: one cluster reaches within dx of both faces of the slab (or beyond them).
+  // Not "touches both reservoirs": the displaced water collects on the outlet face (it wets the
+  // solid), so the gas that crossed the sample may meet water, not the outlet reservoir's gas.
+  const double lowFace = sampleLo_ + sim.spacing, highFace = sampleHi_ - sim.spacing;
   std::vector<char> low(static_cast<size_t>(n), 0);
   for (Index i = 0; i < n; ++i)
-    if (mt[i] == invading_ && x[i * d + axis_] < sampleLo_)
+    if (mt[i] == invading_ && x[i * d + axis_] < lowFace)
       low[static_cast<size_t>(find(parent_, i))] = 1;
   for (Index i = 0; i < n; ++i)
-    if (mt[i] == invading_ && x[i * d + axis_] > sampleHi_ &&
+    if (mt[i] == invading_ && x[i * d + axis_] > highFace &&
         low[static_cast<size_t>(find(parent_, i))])
       return true;
   return false;

@@ -14,8 +14,9 @@
 //   drainage_porosity          V_fluid / (V_fluid + V_solid)       (solid + rigid particles)
 //   drainage_gas_saturation    V_invading / V_fluid, drainage_water_saturation V_defending / V_fluid
 //   drainage_percolated        1 once a cluster of invading particles (links shorter than
-//                              `link_distance` x dx, periodic images not used) touches both
-//                              reservoirs, else 0; drainage_percolation_time (-1 before)
+//                              `link_distance` x dx, periodic images not used) reaches within
+//                              dx of both faces of the slab (gas breakthrough), else 0;
+//                              drainage_percolation_time (-1 before)
 //   drainage_damaged_fraction  solid volume with D > 0.5 / solid volume, drainage_max_damage
 //                              (only when a `damage` field exists)
 //   drainage_solid_mean_stress mean of tr(sigma)/D over the solid (volume weighted) and
@@ -44,7 +45,7 @@ class DrainageModule : public Module {
 
   /// Body force per unit mass on the invading fluid in the reservoirs (signed along the axis).
   double bodyForce() const { return force_; }
-  /// True when a cluster of invading particles links the two reservoirs (evaluated now).
+  /// True when a cluster of invading particles spans the slab face to face (evaluated now).
   bool percolates(const Simulation& sim) const;
   double percolationTime() const { return percolationTime_; }
 

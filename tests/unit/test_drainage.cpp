@@ -1,7 +1,7 @@
 // The drainage driver and monitor (physics/drainage, docs/drainage.md): the reservoir body force
 // of Sec. 5.2 (f = dP / (rho_g L_r), on the invading fluid outside the sample slab only), the
 // porosity and saturations of the slab, the percolation flag (a cluster of invading particles
-// linking both reservoirs through the sample, never through the periodic face), its time kept
+// spanning the slab face to face, never through the periodic face), its time kept
 // across checkpoints, and the scene errors.
 #include <gtest/gtest.h>
 
@@ -133,8 +133,11 @@ TEST(Drainage, PercolationNeedsAGasPathThroughTheSample) {
   EXPECT_FALSE(d.percolates(sim));
   EXPECT_EQ(column(sim, "drainage_percolated"), 0.0);
   EXPECT_EQ(column(sim, "drainage_percolation_time"), -1.0);
-  // The last water row replaced: the gas links both reservoirs.
+  // The last water row replaced: the gas spans the slab. Breakthrough counts also when the
+  // displaced water covers the outlet face (here: the whole low reservoir turned to water).
   recolour(sim, 0, 1, 0.0, 1.0, 0.0, 1.0);
+  EXPECT_TRUE(d.percolates(sim));
+  recolour(sim, 1, 0, 0.0, 1.0, 0.0, 0.0099);
   EXPECT_TRUE(d.percolates(sim));
   sim.time = 0.25;
   EXPECT_EQ(column(sim, "drainage_percolated"), 1.0);

@@ -1,0 +1,136 @@
+// Validation (issue 16): drainage of one straight throat in the thesis' set-up (Sec. 5.2): a clay
+// slab (2D, stiff elastic, contact angle 60 degrees) crossed by a slit of width w, water in the
+// slit, gas reservoirs on both sides along the periodic flow axis, the pressure drop imposed by
+// the reservoir body force of the drainage module. Two capillary barriers stand in the way:
+//   entry of the gas into the slit (Young-Laplace, 2D):    P_entry = 2 gamma cos(theta) / w
+//   exit of the water into the downstream gas reservoir:   up to     P_exit = 2 gamma / w
+// (the water pinned at the outlet corners bulges to a half disc before it can spread), so
+//   dP < P_entry            the gas stays out of the slit;
+//   P_entry < dP < P_entry + P_exit   the gas enters and stops when the outlet bulge holds it;
+//   dP > P_entry + P_exit   the gas crosses: the sample percolates.
+// The three runs sit at 0.8 P_entry, 0.9 (P_entry + P_exit) and 1.25 (P_entry + P_exit). The
+// outlet reservoir (1 mm) holds more than the slit's water (as the thesis' reservoirs hold "enough
+// particles to fill the entire pore space"), so the water it receives does not wrap round the
+// periodic face into the inlet.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+#include "libcore/runner.hpp"
+#include "libcore/scene.hpp"
+#include "tests/support/validation_record.hpp"
+
+using namespace poresph;
+namespace fsys = std::filesystem;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kGamma = 0.05, kTheta = 60.0, kW = 5e-4;  // N/m, degrees, m (5 dx)
+
+double entryPressure() { return 2.0 * kGamma * std::cos(kTheta * kPi / 180.0) / kW; }
+double exitPressure() { return 2.0 * kGamma / kW; }
+
+struct Outcome {
+  double gasSaturation = 0.0, percolationTime = -1.0, wall = 0.0;
+  bool finished = false;
+};
+
+Outcome drain(double dP, double endTime) {
+  char text[4096];
+  std::snprintf(text, sizeof text, R"(dimension: 2
+domain: {lo: [-0.0003, 0.0], hi: [0.0019, 0.0035], periodic: [false, true]}
+spacing: 1.0e-4
+h_over_dx: 1.0
+kernel: quintic_spline
+integrator: leapfrog
+end_time: %g
+time_step: {adaptive: true, cfl: 1.0}
+output: {every_time: 0.005}
+materials:
+  - {name: water, model: fluid, density: 1000, sound_speed: 4, viscosity: 0.01, colour: 1, background_pressure: 600}
+  - {name: gas, model: fluid, density: 1000, sound_speed: 4, viscosity: 0.01, colour: -1, background_pressure: 600}
+  - {name: wall, model: wall, density: 1000, contact_angle: 60}
+  - {name: clay, model: elastic, density: 2000, young_modulus: 1.0e6, poisson_ratio: 0.1, formulation: small_strain_displacement, contact_angle: 60, damping: 200}
+geometry:
+  - {shape: box, lo: [-0.0003, 0.0], hi: [0.0019, 0.0035], material: wall}
+  - {shape: box, lo: [0.0, 0.0], hi: [0.0016, 0.0035], material: gas}
+  - {shape: box, lo: [0.0, 0.001], hi: [0.0016, 0.003], material: clay}
+  - {shape: box, lo: [0.00055, 0.001], hi: [0.00105, 0.003], material: water}
+fluid:
+  surface_tension: %g
+drainage: {invading: gas, defending: water, axis: y, sample: [0.001, 0.003], pressure_drop: %g, percolation_every: 5}
+solid:
+  boundaries:
+    - {name: support, type: clamped, box: {min: [0.0, 0.001], max: [0.0016, 0.0013]}, material: clay}
+)",
+                endTime, kGamma, dP);
+  const fsys::path dir = fsys::path(PORESPH_BINARY_DIR) / "test-drainage-throat";
+  fsys::create_directories(dir);
+  char name[64];
+  std::snprintf(name, sizeof name, "dp_%g", dP);
+  Scene scene = loadSceneText(text, (dir / (std::string(name) + ".yaml")).string());
+  RunOptions options;
+  options.outDir = (dir / name).string();
+  fsys::remove_all(options.outDir);
+  options.handleSignals = false;
+  test::Stopwatch clock;
+  const RunResult r = runScene(scene, options);
+  Outcome o;
+  o.finished = r.status == RunStatus::Finished;
+  EXPECT_TRUE(o.finished) << r.message;
+  for (const auto& [k, v] : scene.sim->diagnostics()) {
+    if (k == "drainage_gas_saturation") o.gasSaturation = v;
+    if (k == "drainage_percolation_time") o.percolationTime = v;
+  }
+  o.wall = clock.seconds();
+  return o;
+}
+
+void record(const std::string& quantity, double measured, double reference, double wall,
+            const std::string& tolerance) {
+  test::ValidationRecord rec;
+  rec.caseName = "drainage_throat_2d";
+  rec.quantity = quantity;
+  rec.measured = measured;
+  rec.reference = reference;
+  rec.relativeError = reference != 0.0 ? std::abs(measured - reference) / std::abs(reference) : 0.0;
+  rec.resolution = "slit w = 5 dx, slab 16 x 20 dx, quintic h = dx";
+  rec.wallSeconds = wall;
+  rec.tolerance = tolerance;
+  rec.reference_source = "Young-Laplace entry 2 gamma cos(theta)/w, exit bulge 2 gamma/w";
+  test::recordValidation(rec);
+}
+
+}  // namespace
+
+TEST(DrainageThroat, GasStaysOutBelowTheEntryPressure) {
+  const double dP = 0.8 * entryPressure();
+  const Outcome o = drain(dP, 0.02);
+  // The entry meniscus bulges into the slit by less than half its width: at most
+  // (pi/8) w^2 of the 2 mm x w slit, 0.098 of its water.
+  EXPECT_LT(o.gasSaturation, 0.06);
+  EXPECT_LT(o.percolationTime, 0.0);
+  record("gas saturation at dP = 0.8 P_entry (no entry)", o.gasSaturation, NAN, o.wall, "< 0.06");
+}
+
+TEST(DrainageThroat, GasEntersButTheOutletBulgeHoldsIt) {
+  const double dP = 0.9 * (entryPressure() + exitPressure());
+  const Outcome o = drain(dP, 0.02);
+  EXPECT_GT(o.gasSaturation, 0.1);  // entered (dP = 2.7 P_entry)
+  EXPECT_LT(o.percolationTime, 0.0);
+  record("gas saturation at dP = 0.9 (P_entry + P_exit) (entered, no percolation)",
+         o.gasSaturation, NAN, o.wall, "> 0.1, not percolated");
+}
+
+TEST(DrainageThroat, GasPercolatesAboveEntryPlusExit) {
+  const double dP = 1.25 * (entryPressure() + exitPressure());
+  const Outcome o = drain(dP, 0.025);  // percolates at 0.0154 s (measured)
+  EXPECT_GT(o.percolationTime, 0.0);
+  EXPECT_GT(o.gasSaturation, 0.8);
+  record("percolation time at dP = 1.25 (P_entry + P_exit) [s]", o.percolationTime, NAN, o.wall,
+         "percolated, gas saturation > 0.8");
+}
