@@ -2,7 +2,8 @@
 //
 //   poresph run SCENE [--out DIR] [--threads N] [--force] [--restart CHECKPOINT]
 //   poresph info SCENE [--threads N]
-//   poresph image FILE --shape NX NY NZ [--pore-label L] [--connectivity 6|18|26]
+//   poresph image FILE [--shape NX NY NZ] [--pore-label L] [--connectivity C] ... (app/image_command.cpp)
+//   poresph synth OUT [--shape NX NY NZ] [--porosity P] ...                      (app/image_command.cpp)
 //   poresph --help | --version
 //
 // Exit codes: 0 done, 2 bad input (scene, options, output directory), 3 numerical blow-up,
@@ -23,7 +24,7 @@
 #include "libcore/parameters.hpp"
 #include "libcore/runner.hpp"
 #include "libcore/scene.hpp"
-#include "libcore/voxel_image.hpp"
+#include "app/commands.hpp"
 
 namespace fs = std::filesystem;
 using namespace poresph;
@@ -84,11 +85,11 @@ int commandInfo(const std::string& scenePath) {
 /// of CLI11's "The following arguments were not expected".
 void checkCommand(int argc, char** argv) {
   if (argc < 2 || argv[1][0] == '-') return;
-  const std::vector<std::string> commands = {"run", "info", "image"};
+  const std::vector<std::string> commands = {"run", "info", "image", "synth"};
   const std::string word = argv[1];
   if (std::find(commands.begin(), commands.end(), word) != commands.end()) return;
   const std::string guess = closestMatch(word, commands);
-  throw InputError("unknown command '" + word + "'; commands: run, info, image" +
+  throw InputError("unknown command '" + word + "'; commands: run, info, image, synth" +
                    (guess.empty() ? std::string() : " (did you mean '" + guess + "'?)") +
                    "; see poresph --help");
 }
@@ -116,39 +117,6 @@ int threadsOption(const std::string& text) {
       "--threads", text, 1, 4 * cores,
       "the thread count must be a whole number from 1 to " + std::to_string(4 * cores) +
           " (1 .. 4 x the " + std::to_string(cores) + " cores of this machine)"));
-}
-
-/// Pore statistics of a segmented raw image (docs/voxel-images.md).
-int commandImage(const std::string& path, const std::vector<std::string>& shapeText,
-                 const std::string& poreLabelText, const std::string& connectivityText) {
-  int shape[3];
-  for (int a = 0; a < 3; ++a)
-    shape[a] = static_cast<int>(wholeNumberOption(
-        "--shape", shapeText[static_cast<size_t>(a)], 1, std::numeric_limits<int>::max(),
-        "every size must be a positive whole number of at most " +
-            std::to_string(std::numeric_limits<int>::max()) + " voxels"));
-  const int poreLabel = static_cast<int>(
-      wholeNumberOption("--pore-label", poreLabelText, 0, 255, "must be a whole number from 0 to 255"));
-  const int connectivity = static_cast<int>(
-      wholeNumberOption("--connectivity", connectivityText, 6, 26, "must be 6, 18 or 26"));
-  if (connectivity != 6 && connectivity != 18 && connectivity != 26)
-    throw InputError("--connectivity: must be 6, 18 or 26, got " + connectivityText);
-  // The labels' bytes are part of the memory check made before the image is allocated.
-  const VoxelImage img =
-      VoxelImage::readRaw(path, shape[0], shape[1], shape[2], kLabelBytesPerVoxel);
-  const PoreStatistics s = poreStatistics(img, static_cast<std::uint8_t>(poreLabel), connectivity);
-  std::cout << "image:        " << path << " (" << shape[0] << " x " << shape[1] << " x "
-            << shape[2] << " voxels, pore label " << poreLabel << ")\n"
-            << "pore voxels:  " << s.poreVoxels << " of " << s.voxels << "\n"
-            << "porosity:     " << s.porosity << "\n"
-            << "clusters:     " << s.clusters << " (" << s.connectivity << "-connected)\n"
-            << "largest:      " << s.largestCluster << " voxels, " << s.largestFraction
-            << " of the pore space, percolates along"
-            << (s.largestPercolates[0] ? " x" : "") << (s.largestPercolates[1] ? " y" : "")
-            << (s.largestPercolates[2] ? " z" : "")
-            << (s.largestPercolates[0] || s.largestPercolates[1] || s.largestPercolates[2] ? "" : " no axis")
-            << "\n";
-  return 0;
 }
 
 /// runs/<scene name>-<UTC date>-<time>: a new folder per run when --out is not given.
@@ -252,15 +220,8 @@ int main(int argc, char** argv) {
   info->add_option("scene", scenePath, "Scene file (YAML)")->required();
   info->add_option("--threads,-t", threadsText, "OpenMP threads, 1 .. 4 x cores");
 
-  // Image values are taken as text and checked in commandImage, whose messages name the option.
-  std::string imagePath, poreLabel = "0", connectivity = "6";
-  std::vector<std::string> shape;
-  CLI::App* image = app.add_subcommand("image", "Pore statistics of a segmented raw 8-bit image");
-  image->add_option("file", imagePath, "Raw image (unsigned 8-bit, x fastest)")->required();
-  image->add_option("--shape", shape, "Voxels along x, y, z")->required()->expected(3);
-  image->add_option("--pore-label", poreLabel, "Voxel value of the pore space (default 0)");
-  image->add_option("--connectivity", connectivity,
-                    "Pore voxels touching by faces (6, default), also edges (18) or corners (26)");
+  // Commands in their own files (app/commands.hpp); their values are checked when they run.
+  const std::vector<app::Command> commands = {app::addImageCommand(app), app::addSynthCommand(app)};
 
   try {
     checkCommand(argc, argv);
@@ -278,7 +239,8 @@ int main(int argc, char** argv) {
   try {
     if (!threadsText.empty()) setThreads(threadsOption(threadsText));
     if (info->parsed()) return commandInfo(scenePath);
-    if (image->parsed()) return commandImage(imagePath, shape, poreLabel, connectivity);
+    for (const auto& c : commands)
+      if (c.sub->parsed()) return c.run();
     if (run->parsed()) return commandRun(scenePath, outDir, force, restart, keepGoing);
   } catch (const InputError& e) {
     std::cerr << "poresph: error: " << e.what() << "\n";

@@ -86,16 +86,21 @@ namespace {
 /// finite f[p] (f = kInf: no parabola). v, z, out are scratch of the line's length (+1 for z).
 constexpr std::int64_t kInf = std::numeric_limits<std::int64_t>::max() / 4;
 
-void edtLine(const std::int64_t* f, std::int64_t* d, int n, std::vector<int>& v,
-             std::vector<double>& z) {
+void edtLine(const std::uint32_t* f, std::uint32_t* d, int n, std::vector<int>& v,
+             std::vector<std::int64_t>& zn, std::vector<std::int64_t>& zd) {
+  // Breakpoints z[k] = zn[k] / zd[k] (zd > 0) between parabolas v[k-1] and v[k], compared by
+  // 128-bit cross-multiplication: exact, and without a division per comparison.
+  using Wide = __int128;
   int k = -1;
   for (int q = 0; q < n; ++q) {
-    if (f[q] >= kInf) continue;
-    const double fq = static_cast<double>(f[q]) + double(q) * q;
+    if (f[q] == kNoSolid) continue;
+    const std::int64_t fq = std::int64_t{f[q]} + std::int64_t{q} * q;
+    std::int64_t num = 0, den = 1;
     while (k >= 0) {
       const int p = v[static_cast<size_t>(k)];
-      const double s = (fq - (static_cast<double>(f[p]) + double(p) * p)) / (2.0 * (q - p));
-      if (s <= z[static_cast<size_t>(k)]) {
+      num = fq - (std::int64_t{f[p]} + std::int64_t{p} * p);
+      den = 2 * std::int64_t{q - p};
+      if (k > 0 && Wide{num} * zd[static_cast<size_t>(k)] <= Wide{zn[static_cast<size_t>(k)]} * den) {
         --k;
       } else {
         break;
@@ -103,23 +108,19 @@ void edtLine(const std::int64_t* f, std::int64_t* d, int n, std::vector<int>& v,
     }
     ++k;
     v[static_cast<size_t>(k)] = q;
-    if (k == 0) {
-      z[0] = -std::numeric_limits<double>::infinity();
-    } else {
-      const int p = v[static_cast<size_t>(k - 1)];
-      z[static_cast<size_t>(k)] =
-          (fq - (static_cast<double>(f[p]) + double(p) * p)) / (2.0 * (q - p));
-    }
+    zn[static_cast<size_t>(k)] = num;
+    zd[static_cast<size_t>(k)] = den;
   }
   if (k < 0) {
-    for (int q = 0; q < n; ++q) d[q] = kInf;
+    for (int q = 0; q < n; ++q) d[q] = kNoSolid;
     return;
   }
   int j = 0;
   for (int q = 0; q < n; ++q) {
-    while (j < k && z[static_cast<size_t>(j + 1)] < q) ++j;
+    while (j < k && Wide{zn[static_cast<size_t>(j + 1)]} < Wide{q} * zd[static_cast<size_t>(j + 1)]) ++j;
     const std::int64_t p = v[static_cast<size_t>(j)];
-    d[q] = (q - p) * (q - p) + f[p];
+    const std::int64_t e = (q - p) * (q - p) + std::int64_t{f[p]};
+    d[q] = e >= std::int64_t{kNoSolid} ? kNoSolid : static_cast<std::uint32_t>(e);
   }
 }
 
@@ -133,34 +134,63 @@ std::vector<std::uint32_t> squaredDistanceToSolid(const VoxelImage& img, std::ui
   // Squared distances fit 32 bits: at most nx^2 + ny^2 + nz^2 along a real line of voxels; the
   // transform is exact in 64-bit integers and double intersections (|values| < 2^53).
   const int longest = std::max({n[0], n[1], n[2]});
-  std::vector<std::int64_t> f(static_cast<size_t>(longest)), d(static_cast<size_t>(longest));
+  std::vector<std::int64_t> d(static_cast<size_t>(longest));
   std::vector<int> vv(static_cast<size_t>(longest));
-  std::vector<double> zz(static_cast<size_t>(longest) + 1);
+  std::vector<std::int64_t> zn(static_cast<size_t>(longest) + 1), zd(static_cast<size_t>(longest) + 1);
   const std::uint32_t big = kNoSolid;
-  auto load = [&](std::uint32_t x) { return x == big ? kInf : static_cast<std::int64_t>(x); };
-  auto store = [&](std::int64_t x) {
-    return x >= kInf || x >= static_cast<std::int64_t>(big) ? big : static_cast<std::uint32_t>(x);
-  };
-  // x: from the image directly.
+  // x: from the image directly. For a binary input the lower envelope is the nearest solid voxel
+  // of the row, found by one sweep each way (same result as edtLine, several times faster).
   for (Index row = 0; row < total / n[0]; ++row) {
     const Index base = row * n[0];
-    for (int x = 0; x < n[0]; ++x) f[static_cast<size_t>(x)] = v[base + x] == pore ? kInf : 0;
-    edtLine(f.data(), d.data(), n[0], vv, zz);
-    for (int x = 0; x < n[0]; ++x) out[static_cast<size_t>(base + x)] = store(d[static_cast<size_t>(x)]);
+    std::int64_t last = -1;  // position of the last solid voxel seen
+    for (int x = 0; x < n[0]; ++x) {
+      if (v[base + x] != pore) last = x;
+      d[static_cast<size_t>(x)] = last < 0 ? kInf : x - last;
+    }
+    last = -1;
+    for (int x = n[0] - 1; x >= 0; --x) {
+      if (v[base + x] != pore) last = x;
+      std::int64_t& e = d[static_cast<size_t>(x)];
+      if (last >= 0 && last - x < e) e = last - x;
+      out[static_cast<size_t>(base + x)] = e >= kInf ? big : static_cast<std::uint32_t>(e * e);
+    }
   }
-  // y, then z: strided lines.
+  // y, then z: strided lines, done kBlock neighbouring x at a time so that the gathers and
+  // scatters read whole cache lines (one line at a time along z strides by nx ny voxels).
+  constexpr int kBlock = 32;
+  std::vector<std::uint32_t> fb(static_cast<size_t>(kBlock) * static_cast<size_t>(longest));
+  std::vector<std::uint32_t> line(static_cast<size_t>(longest));
   for (int axis = 1; axis < 3; ++axis) {
     if (n[axis] == 1) continue;
     const Index stride = axis == 1 ? n[0] : Index{n[0]} * n[1];
     const Index outer = axis == 1 ? n[2] : 1;
     const Index inner = axis == 1 ? n[0] : Index{n[0]} * n[1];
     const Index outerStride = Index{n[0]} * n[1];
+    const size_t len = static_cast<size_t>(n[axis]);
     for (Index o = 0; o < outer; ++o)
-      for (Index i = 0; i < inner; ++i) {
-        const Index base = o * outerStride + i;
-        for (int q = 0; q < n[axis]; ++q) f[static_cast<size_t>(q)] = load(out[static_cast<size_t>(base + q * stride)]);
-        edtLine(f.data(), d.data(), n[axis], vv, zz);
-        for (int q = 0; q < n[axis]; ++q) out[static_cast<size_t>(base + q * stride)] = store(d[static_cast<size_t>(q)]);
+      for (Index i0 = 0; i0 < inner; i0 += kBlock) {
+        const int b = static_cast<int>(std::min<Index>(kBlock, inner - i0));
+        const Index base = o * outerStride + i0;
+        for (int q = 0; q < n[axis]; ++q) {
+          const std::uint32_t* src = &out[static_cast<size_t>(base + q * stride)];
+          for (int j = 0; j < b; ++j) fb[static_cast<size_t>(j) * len + static_cast<size_t>(q)] = src[j];
+        }
+        for (int j = 0; j < b; ++j) {
+          // A line with no pore voxel left (all 0) or no solid (all kNoSolid) stays as it is.
+          std::uint32_t* col = &fb[static_cast<size_t>(j) * len];
+          bool zero = true, none = true;
+          for (size_t q = 0; q < len && (zero || none); ++q) {
+            zero = zero && col[q] == 0;
+            none = none && col[q] == kNoSolid;
+          }
+          if (zero || none) continue;
+          edtLine(col, line.data(), n[axis], vv, zn, zd);
+          std::copy(line.begin(), line.begin() + n[axis], col);
+        }
+        for (int q = 0; q < n[axis]; ++q) {
+          std::uint32_t* dst = &out[static_cast<size_t>(base + q * stride)];
+          for (int j = 0; j < b; ++j) dst[j] = fb[static_cast<size_t>(j) * len + static_cast<size_t>(q)];
+        }
       }
   }
   return out;
@@ -169,14 +199,26 @@ std::vector<std::uint32_t> squaredDistanceToSolid(const VoxelImage& img, std::ui
 PoreSizeDistribution poreSizeDistribution(const std::vector<std::uint32_t>& d2,
                                           const VoxelImage& img, std::uint8_t pore) {
   PoreSizeDistribution p;
-  std::map<std::uint32_t, std::int64_t> h;
   const std::uint8_t* v = img.values().data();
   double sum = 0.0;
-  for (size_t i = 0; i < d2.size(); ++i) {
-    if (v[i] != pore || d2[i] == kNoSolid) continue;
-    ++h[d2[i]];
+  std::uint32_t maxD2 = 0;
+  for (size_t i = 0; i < d2.size(); ++i)
+    if (v[i] == pore && d2[i] != kNoSolid) maxD2 = std::max(maxD2, d2[i]);
+  // A dense histogram (max d2 <= nx^2 + ny^2 + nz^2, small next to the image) when it fits.
+  std::vector<std::pair<std::uint32_t, std::int64_t>> entries;
+  if (maxD2 < (1u << 26)) {
+    std::vector<std::int64_t> dense(static_cast<size_t>(maxD2) + 1, 0);
+    for (size_t i = 0; i < d2.size(); ++i)
+      if (v[i] == pore && d2[i] != kNoSolid) ++dense[d2[i]];
+    for (size_t k = 0; k < dense.size(); ++k)
+      if (dense[k]) entries.emplace_back(static_cast<std::uint32_t>(k), dense[k]);
+  } else {
+    std::map<std::uint32_t, std::int64_t> h;
+    for (size_t i = 0; i < d2.size(); ++i)
+      if (v[i] == pore && d2[i] != kNoSolid) ++h[d2[i]];
+    entries.assign(h.begin(), h.end());
   }
-  for (const auto& [k, c] : h) {
+  for (const auto& [k, c] : entries) {
     p.histogram.emplace_back(k, c);
     p.poreVoxels += c;
     sum += std::sqrt(static_cast<double>(k)) * static_cast<double>(c);
