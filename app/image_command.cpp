@@ -54,7 +54,8 @@ struct ImageOptions {
   std::string psd, vti;
 };
 
-void printStats(const PoreStatistics& s, const std::array<Index, 3>& perc) {
+void printStats(PoreStatistics s, const std::array<Index, 3>& perc, bool flat) {
+  if (flat) s.largestPercolates[2] = false;  // a 2D image has no z faces to connect
   std::cout << "clusters:     " << s.clusters << " (" << s.connectivity << "-connected)\n"
             << "largest:      " << s.largestCluster << " voxels, " << s.largestFraction
             << " of the pore space, percolates along" << (s.largestPercolates[0] ? " x" : "")
@@ -62,8 +63,9 @@ void printStats(const PoreStatistics& s, const std::array<Index, 3>& perc) {
             << (s.largestPercolates[0] || s.largestPercolates[1] || s.largestPercolates[2] ? ""
                                                                                         : " no axis")
             << "\n"
-            << "percolating:  clusters touching both faces: x " << perc[0] << ", y " << perc[1]
-            << ", z " << perc[2] << "\n";
+            << "percolating:  clusters touching both faces: x " << perc[0] << ", y " << perc[1];
+  if (!flat) std::cout << ", z " << perc[2];
+  std::cout << "\n";
 }
 
 int runImage(const ImageOptions& o) {
@@ -213,7 +215,7 @@ int runImage(const ImageOptions& o) {
     if (k == 0)
       std::cout << "pore voxels:  " << s.poreVoxels << " of " << s.voxels << "\n"
                 << "porosity:     " << s.porosity << "\n";
-    printStats(s, perc);
+    printStats(s, perc, img.flat());
     phase("clusters (" + std::to_string(conns[k]) + ")");
     if (k == 0 && !o.vti.empty()) keptLabels = std::move(labels);
   }
