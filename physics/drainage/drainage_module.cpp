@@ -71,6 +71,7 @@ void DrainageModule::configure(Simulation& sim, const std::vector<const Material
                          "), leaving room for the reservoirs on both sides");
   pressureDrop_ = s.real("pressure_drop", 0.0, Range::nonNegative());
   const std::string push = s.choice("push", "negative", {"negative", "positive"});
+  rampTime_ = s.real("ramp_time", 0.0, Range::nonNegative());
   linkDistance_ = s.real("link_distance", 1.5, Range::closed(1.0, 2.0));
   checkEvery_ = s.integer("percolation_every", 10, 1, 1000000);
   if (pressureDrop_ > 0.0 && !sim.domain.periodic[static_cast<size_t>(axis_)])
@@ -97,7 +98,10 @@ void DrainageModule::forces(Simulation& sim) {
   const std::int32_t* mo = st.data(sim.motion);
   double* acc = st.data(sim.acceleration);
   const int a = axis_;
-  const double lo = sampleLo_, hi = sampleHi_, f = force_;
+  // Ramped like the solid's loads: f min(1, t / ramp_time), so that the start sends no
+  // pressure shock through weakly compressible fluids.
+  const double ramp = rampTime_ > 0.0 ? std::min(1.0, sim.time / rampTime_) : 1.0;
+  const double lo = sampleLo_, hi = sampleHi_, f = force_ * ramp;
   const std::int32_t inv = invading_;
 #pragma omp parallel for schedule(static)
   for (Index i = 0; i < n; ++i) {

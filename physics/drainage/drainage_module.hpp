@@ -7,7 +7,8 @@
 // reservoirs": with the reservoirs of total length L_r along the axis and the gas density rho_g,
 //   f = dP / (rho_g L_r)                                     (per unit mass, along `push`)
 // so that a gas column at rest in the reservoirs carries the pressure difference dP
-// (dp/ds = rho_g f) that the sample then sees between its two faces.
+// (dp/ds = rho_g f) that the sample then sees between its two faces. `ramp_time` raises f
+// linearly from 0 (f min(1, t / ramp_time)), as the solid ramps its loads.
 //
 // What it measures (timeseries.csv columns, all counted in the sample slab, volumes V = m/rho of
 // the current density, so the porosity follows the deformed solid):
@@ -52,7 +53,7 @@ class DrainageModule : public Module {
  private:
   int axis_ = 0;
   double sampleLo_ = 0.0, sampleHi_ = 0.0;
-  double pressureDrop_ = 0.0, force_ = 0.0, linkDistance_ = 1.5;
+  double pressureDrop_ = 0.0, force_ = 0.0, rampTime_ = 0.0, linkDistance_ = 1.5;
   int invading_ = -1, defending_ = -1;  // material ids
   long checkEvery_ = 10;
   mutable double percolationTime_ = -1.0;  // first time seen (endOfStep or an output row)

@@ -175,3 +175,27 @@ TEST(Drainage, SceneErrorsNameTheKeyAndValue) {
   m = err("{invading: gas, defending: water, sample: [0.01, 0.02], presure_drop: 1}");
   EXPECT_NE(m.find("did you mean 'pressure_drop'"), std::string::npos) << m;
 }
+
+TEST(Drainage, RampRaisesTheBodyForceLinearly) {
+  Scene s = loadSceneText(
+      scene("{invading: gas, defending: water, axis: y, sample: [0.01, 0.02], pressure_drop: 0.4, "
+            "ramp_time: 0.002}"),
+      "drainage.yaml");
+  Simulation& sim = *s.sim;
+  DrainageModule& d = drainage(s);
+  ParticleStore& st = sim.store;
+  const Index n = st.realCount();
+  const std::int32_t* mt = st.data(st.material());
+  const double* x = st.data(st.position());
+  Index probe = -1;  // a reservoir gas particle
+  for (Index i = 0; i < n && probe < 0; ++i)
+    if (mt[i] == 1 && x[2 * i + 1] < 0.01) probe = i;
+  ASSERT_GE(probe, 0);
+  double* acc = st.data(sim.acceleration);
+  for (double t : {0.0, 0.0005, 0.002, 0.01}) {
+    sim.time = t;
+    std::fill(acc, acc + 2 * n, 0.0);
+    d.forces(sim);
+    EXPECT_NEAR(acc[2 * probe + 1], d.bodyForce() * std::min(1.0, t / 0.002), 1e-12) << t;
+  }
+}
