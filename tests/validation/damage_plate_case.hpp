@@ -1,0 +1,188 @@
+#pragma once
+// The plate with a rigid circular inclusion of thesis Sec. 4.3 (Tab. 4.2, Fig. 4.13, loading
+// 4.31), shared by tests/validation/test_damage_plate*.cpp: side L = 300 mm, inclusion of
+// diameter L/3 at the centre held fixed (u = 0, D = 0 on it: an undamageable material clamped in
+// place), the top layer (one support deep) pulled or pushed along y with x free (roller,
+// `components: [y]`), other sides free. E = 12000 N/mm2, nu = 0.25 (plane strain),
+// rho = 1000 mg/mm3 (1e6 kg/m3), Yc0 = 2.5e-3 N/mm2, s_l = 0.99. Total-Lagrangian SVK with
+// hourglass control; quasi-static by a slow displacement ramp and viscous damping (instead of
+// the thesis' artificial viscosity alpha = 41, which cuts the step ~50x).
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "physics/solid/solid_scenes.hpp"
+
+namespace poresph::solid::plate {
+
+struct PlateSetup {
+  double dx = 3e-3;           ///< particle spacing [m]
+  double support = 15e-3;     ///< 2h [m]
+  std::string law = "{law: at2, critical_energy_release: 2500}";
+  double uMax = 30e-6;        ///< imposed top displacement at the end of the ramp (sign: tension +)
+  double rampCrossings = 12;  ///< ramp time in units of L / c_p
+  double damping = 600.0;     ///< 1/s (~ the lowest mode, pi c_p / (2 L))
+  double hourglass = 1.0;
+  double threshold = 0.5;     ///< a particle is "damaged" at D >= threshold
+  std::string dump;           ///< CSV of X, Y, D at the end (and at onset/crossing: suffixed)
+  bool clampBottom = false;   ///< also hold the bottom layer (one support deep) at u = 0
+  long maxSteps = -1;         ///< stop after so many steps (cost measurements), -1: the whole ramp
+};
+
+struct PlateResult {
+  double uOnset = -1.0;     ///< imposed displacement when the first particle reached the threshold
+  double xOnset = 0.0, yOnset = 0.0;
+  double uCross = -1.0;     ///< ... when damaged particles touch both lateral sides
+  double asymmetry = 0.0;   ///< sum |D(x, y) - D(-x, y)| / sum D at the end
+  double width = 0.0;       ///< damaged width across the crack at x = +-(a + L/6) [m], at the end
+  double widthCross = 0.0;  ///< the same when the crack first reached both sides
+  double balance = 0.0;     ///< energy balance residual / work in
+  double dissipated = 0.0;  ///< released energy [J per m of thickness]
+  double dmax = 0.0;
+  long particles = 0, steps = 0, clipped = 0;
+  double wall = 0.0;
+};
+
+inline void dumpCsv(const std::string& path, const Simulation& sim) {
+  FILE* f = std::fopen(path.c_str(), "w");
+  if (!f) return;
+  const double* X = sim.store.data(sim.store.real("reference_position"));
+  const double* x = sim.store.data(sim.store.position());
+  const double* D = sim.store.data(sim.store.real("damage"));
+  std::fprintf(f, "X,Y,x,y,D\n");
+  for (Index i = 0; i < sim.store.realCount(); ++i)
+    std::fprintf(f, "%.6g,%.6g,%.9g,%.9g,%.5g\n", X[2 * i], X[2 * i + 1], x[2 * i], x[2 * i + 1], D[i]);
+  std::fclose(f);
+}
+
+inline PlateResult runPlate(const PlateSetup& s) {
+  PlateResult r;
+  const auto t0 = std::chrono::steady_clock::now();
+  const double L = 0.3, a = 0.05, E = 12000e6, nu = 0.25, rho = 1e6;
+  Simulation sim(2);
+  char buf[512];
+  std::snprintf(buf, sizeof buf,
+                "{density: %g, young_modulus: %g, poisson_ratio: %g, formulation: total_lagrangian, "
+                "hourglass: %g, damping: %g%s%s}",
+                rho, E, nu, s.hourglass, s.damping, s.law.empty() ? "" : ", damage: ", s.law.c_str());
+  addMaterial(sim, "matrix", "elastic", buf);
+  std::snprintf(buf, sizeof buf,
+                "{density: %g, young_modulus: %g, poisson_ratio: %g, formulation: total_lagrangian, "
+                "hourglass: %g, damping: %g}",
+                rho, E, nu, s.hourglass, s.damping);
+  addMaterial(sim, "inclusion", "elastic", buf);
+  const int n = static_cast<int>(std::lround(L / s.dx));
+  const double dx = L / n;
+  sim.spacing = dx;
+  sim.kernel = Kernel(KernelType::CubicSpline, 2, 0.5 * s.support);
+  const Index first = buildBlock<2>(sim, Vec<2>(-0.5 * L, -0.5 * L), {n, n, 1}, dx, 0);
+  {
+    double* x = sim.store.data(sim.store.position());
+    std::int32_t* mat = sim.store.data(sim.store.material());
+    for (Index i = first; i < sim.store.realCount(); ++i)
+      if (std::hypot(x[2 * i], x[2 * i + 1]) <= a) mat[i] = 1;
+  }
+  sim.domain.lo = {-L, -L, 0};
+  sim.domain.hi = {L, L, 1};
+  const double yTop = 0.5 * L - s.support;
+  const double c = std::sqrt(E * (1 - nu) / ((1 + nu) * (1 - 2 * nu)) / rho);
+  const double ramp = s.rampCrossings * L / c;
+  char bottomBuf[200];
+  std::snprintf(bottomBuf, sizeof bottomBuf,
+                "{name: bottom, type: clamped, box: {min: [-1, -1], max: [1, %.9g]}}, ",
+                -0.5 * L + s.support);
+  const std::string bottom = bottomBuf;
+  std::snprintf(buf, sizeof buf,
+                "{boundaries: [%s{name: inclusion, type: clamped, material: inclusion}, "
+                "{name: top, type: displacement, displacement: [0, %.9g], components: [y], "
+                "ramp_time: %.9g, box: {min: [-1, %.9g], max: [1, 1]}}]}",
+                s.clampBottom ? bottom.c_str() : "", s.uMax, ramp, yTop);
+  ElasticSolidModule& solid = addSolidModule(sim, buf);
+  solid.initialise(sim);
+  r.particles = sim.store.realCount();
+  const double dt = 0.5 * solid.elasticTimeStepLimit(sim);
+  auto integrator = makeIntegrator("leapfrog");
+  const double* X = sim.store.data(sim.store.real("reference_position"));
+  const std::int32_t* mat = sim.store.data(sim.store.material());
+  const std::int32_t* mo = sim.store.data(sim.motion);
+  auto balance = [&] {
+    const auto w = solid.work(sim);
+    return solid.kineticEnergy(sim) + solid.elasticEnergy(sim) + w[2] + solid.damageDissipation(sim) -
+           w[0] - w[1];
+  };
+  if (s.law.empty() || s.maxSteps >= 0) {  // cost measurement (no damage field without a law)
+    const auto c0 = std::chrono::steady_clock::now();
+    while (r.steps < s.maxSteps) {
+      integrator->step(sim, dt);
+      ++r.steps;
+    }
+    r.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - c0).count();
+    return r;
+  }
+  // left-right asymmetry and damaged width of the current damage field
+  auto measure = [&](double& asym, double& width) {
+    const double* Dm = sim.store.data(sim.store.real("damage"));
+    std::vector<double> grid(static_cast<size_t>(n) * n, 0.0);
+    for (Index i = first; i < sim.store.realCount(); ++i) {
+      const int ix = static_cast<int>(std::floor((X[2 * i] + 0.5 * L) / dx));
+      const int iy = static_cast<int>(std::floor((X[2 * i + 1] + 0.5 * L) / dx));
+      grid[static_cast<size_t>(iy) * n + ix] = Dm[i];
+    }
+    double diff = 0.0, sum = 0.0;
+    for (int iy = 0; iy < n; ++iy)
+      for (int ix = 0; ix < n; ++ix) {
+        diff += std::abs(grid[static_cast<size_t>(iy) * n + ix] - grid[static_cast<size_t>(iy) * n + (n - 1 - ix)]);
+        sum += grid[static_cast<size_t>(iy) * n + ix];
+      }
+    asym = sum > 0.0 ? 0.5 * diff / sum : 0.0;
+    // on the columns at x = +-(a + L/6) (half way from the inclusion to the sides): the number of
+    // particles at D >= threshold times dx, averaged over the two columns
+    width = 0.0;
+    for (int side : {-1, 1}) {
+      const double xc = side * (a + L / 6.0);
+      const int ix = std::clamp(static_cast<int>(std::floor((xc + 0.5 * L) / dx)), 0, n - 1);
+      int count = 0;
+      for (int iy = 0; iy < n; ++iy) count += grid[static_cast<size_t>(iy) * n + ix] >= s.threshold;
+      width += 0.5 * count * dx;
+    }
+  };
+  while (sim.time < ramp * (1 - 1e-9)) {
+    integrator->step(sim, std::min(dt, ramp - sim.time));
+    ++r.steps;
+    const double u = s.uMax * sim.time / ramp;
+    const double* D = sim.store.data(sim.store.real("damage"));
+    bool left = false, right = false;
+    for (Index i = 0; i < sim.store.realCount(); ++i) {
+      if (mat[i] != 0 || mo[i] == kMotionPrescribed || D[i] < s.threshold) continue;
+      if (r.uOnset < 0.0) {
+        r.uOnset = u;
+        r.xOnset = X[2 * i];
+        r.yOnset = X[2 * i + 1];
+        if (!s.dump.empty()) dumpCsv(s.dump + "_onset.csv", sim);
+      }
+      if (X[2 * i] < -0.5 * L + 1.5 * dx) left = true;
+      if (X[2 * i] > 0.5 * L - 1.5 * dx) right = true;
+    }
+    if (left && right && r.uCross < 0.0) {
+      r.uCross = u;
+      double asym = 0.0;
+      measure(asym, r.widthCross);
+      if (!s.dump.empty()) dumpCsv(s.dump + "_cross.csv", sim);
+    }
+  }
+  const double* D = sim.store.data(sim.store.real("damage"));
+  for (Index i = first; i < sim.store.realCount(); ++i) r.dmax = std::max(r.dmax, D[i]);
+  measure(r.asymmetry, r.width);
+  const auto w = solid.work(sim);
+  r.balance = std::abs(balance()) / std::max(std::abs(w[0]), 1e-300);
+  r.dissipated = solid.damageDissipation(sim);
+  r.clipped = solid.clippedDamageUpdates();
+  if (!s.dump.empty()) dumpCsv(s.dump + "_end.csv", sim);
+  r.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return r;
+}
+
+}  // namespace poresph::solid::plate
