@@ -61,8 +61,35 @@ double patchError(Simulation& sim, const std::string& f, double nu, const Mat<2>
   return err;
 }
 
+// The energy each form conserves: TL and the stress-based form sum V0 1/2 S:E (their elastic
+// energy); the displacement form (Eq. 2.90) is a sum of linear pair forces whose potential is
+// Phi = -1/4 sum_a sum_b V_a V_b F_ab [(mu - lambda) |u_ab|^2 + (lambda + mu)(D + 2)(e . u_ab)^2]
+// (F_ab = W'(r)/r < 0; -dPhi/du_a is m_a a_a of elastic_solid.cpp), not 1/2 sigma:eps.
+template <int D>
+double storedEnergy(Simulation& sim) {
+  auto* solid = dynamic_cast<ElasticSolidModule*>(sim.module("solid"));
+  if (solid->formulation() != Formulation::SmallStrainDisplacement) return solid->elasticEnergy(sim);
+  const ElasticMaterial& e = solid->elasticMaterials()[0];
+  ParticleStore& s = sim.store;
+  const RealField u = s.real("displacement");
+  const double* m = s.data(s.mass());
+  const double* rho = s.data(s.density());
+  const NeighbourList& nl = sim.neighbours;
+  double phi = 0.0;
+  for (Index i = 0; i < s.realCount(); ++i)
+    for (auto p = nl.offset[static_cast<size_t>(i)]; p < nl.offset[static_cast<size_t>(i) + 1]; ++p) {
+      const Index j = nl.index[static_cast<size_t>(p)];
+      const Vec<D> r = s.vec<D>(s.position(), i) - s.vec<D>(s.position(), j);
+      const Vec<D> uij = s.vec<D>(u, i) - s.vec<D>(u, j);
+      const double q = r.dot(uij) / r.norm();
+      phi -= 0.25 * m[i] / rho[i] * m[j] / rho[j] * sim.kernel.F(r.norm()) *
+             ((e.mu - e.lambda) * uij.squaredNorm() + (e.lambda + e.mu) * (D + 2) * q * q);
+    }
+  return phi;
+}
+
 // Free vibration of a block from a smooth velocity field; returns max relative drift of the
-// energy balance and whether everything stayed finite.
+// energy each form conserves (kinetic + storedEnergy) and whether everything stayed finite.
 double vibrate(Simulation& sim, int steps, bool& finite) {
   auto* solid = dynamic_cast<ElasticSolidModule*>(sim.module("solid"));
   ParticleStore& s = sim.store;
@@ -78,7 +105,7 @@ double vibrate(Simulation& sim, int steps, bool& finite) {
     for (int k = 0; k < steps; ++k) {
       integrator->step(sim, dt);
       sim.checkFinite();
-      const double e = solid->kineticEnergy(sim) + solid->elasticEnergy(sim);
+      const double e = solid->kineticEnergy(sim) + storedEnergy<2>(sim);
       if (e0 < 0) e0 = e;
       drift = std::max(drift, std::abs(e - e0) / e0);
     }
@@ -129,14 +156,9 @@ TEST(SolidExtremes, PoissonRatioZeroAndNearlyIncompressible) {
       bool finite = false;
       const double drift = vibrate(*dyn, 400, finite);
       EXPECT_TRUE(finite) << f << " nu = " << nu;
-      // TL conserves sum 1/2 m v^2 + V0 psi(F); the small-strain forms work in the current
-      // configuration and their 1/2 sigma:eps is not the energy they conserve (the displacement
-      // form conserves a pair-spring energy), so only boundedness is asserted for them.
-      if (f == "total_lagrangian") {
-        EXPECT_LT(drift, 0.01) << f << " nu = " << nu;
-      } else {
-        EXPECT_LT(drift, 0.5) << f << " nu = " << nu;
-      }
+      // each form conserves its own energy (storedEnergy): measured drifts 1.5e-3 (TL and
+      // stress-based, identical at this amplitude), 1.3e-3 (displacement form, pair potential)
+      EXPECT_LT(drift, 0.01) << f << " nu = " << nu;
       std::printf("%s nu = %.2f: energy drift over 400 steps %.2e\n", f.c_str(), nu, drift);
     }
 }
@@ -151,9 +173,7 @@ TEST(SolidExtremes, SmoothingLengthRange) {
       bool finite = false;
       const double drift = vibrate(*dyn, 300, finite);
       EXPECT_TRUE(finite) << f << " h/dx = " << hdx;
-      if (f == "total_lagrangian") {
-        EXPECT_LT(drift, 0.01) << " h/dx = " << hdx;
-      }
+      EXPECT_LT(drift, 0.01) << f << " h/dx = " << hdx;  // measured 6e-4 ... 3.3e-3, both forms
       std::printf("%s h/dx = %.1f: energy drift %.2e\n", f.c_str(), hdx, drift);
     }
 }
@@ -167,9 +187,7 @@ TEST(SolidExtremes, DisorderedParticles) {
     bool finite = false;
     const double drift = vibrate(*dyn, 400, finite);
     EXPECT_TRUE(finite) << f;
-    if (f == "total_lagrangian") {
-      EXPECT_LT(drift, 0.01);
-    }
+    EXPECT_LT(drift, 0.01) << f;  // measured 1.05e-3, both forms
     std::printf("%s disordered (+-0.25 dx): energy drift %.2e\n", f.c_str(), drift);
   }
 }
@@ -351,15 +369,11 @@ TEST(SolidExtremes, ThreeDimensionalVibration) {
     for (int k = 0; k < 300; ++k) {
       integrator->step(sim, dt);
       sim.checkFinite();
-      const double e = solid.kineticEnergy(sim) + solid.elasticEnergy(sim);
+      const double e = solid.kineticEnergy(sim) + storedEnergy<3>(sim);
       if (e0 < 0) e0 = e;
       drift = std::max(drift, std::abs(e - e0) / e0);
     }
     std::printf("3D %s: energy drift over 300 steps %.2e\n", f.c_str(), drift);
-    if (f == "total_lagrangian") {
-      EXPECT_LT(drift, 0.01);
-    } else {
-      EXPECT_LT(drift, 0.5);
-    }
+    EXPECT_LT(drift, 0.01) << f;  // measured 9.8e-4 (TL, stress-based), 6.6e-4 (displacement, pair potential)
   }
 }

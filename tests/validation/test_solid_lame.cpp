@@ -9,10 +9,10 @@
 // consistent nodal load of a uniform stress -p 1 (f_a = p V_a sum_b V_b (g_ab - g_ba), on the
 // particles within two supports of the bore). Measured (TL): 20 rings across the wall: radial
 // 2.4 %, hoop 0.9 % of p; 28 rings: 1.5 %, 0.7 %. The same wall on a Cartesian lattice
-// (staircase surfaces, what a voxel image gives) is recorded, not asserted: 5.1 % / 17 % at 20
-// across, 3.0 % / 10 % at 28. The stress-based small-strain form on the rings: 2.5 % / 10.9 % at
-// 20, but it does not converge (hoop 41 % at 28, 24 % at 40): only TL is validated here. - the staircase of the bore, not the strain operator, was the
-// error (see docs/solid.md, case 5).
+// (staircase surfaces, what a voxel image gives) is asserted at its measured level (5.1 % / 17 %
+// at 20 across: the staircase of the bore, not the strain operator, is the error; docs/solid.md
+// case 5). The stress-based small-strain form is accurate at 2 ms of relaxation and then
+// unstable (its error grows with time): asserted as such, not validated.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -32,7 +32,17 @@ struct LameResult {
   Index particles = 0;
 };
 
+/// Runs the relaxation to each time of `times` (increasing; default 4 ms) and returns the errors
+/// at each.
+std::vector<LameResult> runLameAt(const std::string& formulation, int perThickness, double hOverDx, bool rings,
+                                  const std::vector<double>& times);
+
 LameResult runLame(const std::string& formulation, int perThickness, double hOverDx, bool rings) {
+  return runLameAt(formulation, perThickness, hOverDx, rings, {4.0e-3}).back();
+}
+
+std::vector<LameResult> runLameAt(const std::string& formulation, int perThickness, double hOverDx, bool rings,
+                                  const std::vector<double>& times) {
   test::Stopwatch clock;
   const double a = 0.01, b = 0.02, p = 1.0e5;
   const double dx = (b - a) / perThickness;
@@ -80,8 +90,10 @@ LameResult runLame(const std::string& formulation, int perThickness, double hOve
   solid.initialise(sim);
   auto integrator = makeIntegrator("leapfrog");
   const double dt = 0.5 * solid.elasticTimeStepLimit(sim);
-  const long steps = static_cast<long>(4.0e-3 / dt);
-  for (long k = 0; k < steps; ++k) integrator->step(sim, dt);
+  std::vector<LameResult> out;
+  for (const double tEnd : times) {
+  const long steps = static_cast<long>(tEnd / dt);
+  while (sim.step < steps) integrator->step(sim, dt);
 
   const double A = p * a * a / (b * b - a * a), B = A * b * b;
   const int bins = 8;
@@ -116,55 +128,77 @@ LameResult runLame(const std::string& formulation, int perThickness, double hOve
   }
   res.wall = clock.seconds();
   res.particles = n;
-  return res;
+  out.push_back(res);
+  }
+  return out;
 }
 
 const char* kLameRef = "Lame closed form (thick-walled cylinder)";
 
 void check(const std::string& f) {
+  const std::string res = "20 body-fitted rings across the wall (a = 10 mm, b = 20 mm), h = 1.3 dx, quarter + mirrors";
+  if (f != "total_lagrangian") {
+    // The stress-based small-strain form is as accurate as TL after 2 ms of relaxation (radial
+    // 2.4 %, hoop 0.98 % of p), but its error then GROWS with time on the same particles (hoop
+    // 10.9 % at 4 ms; at 28 rings 2.8 % at 2 ms, 41 % at 4 ms; TL stays at 0.7 % to 8 ms): an
+    // instability of the current-configuration kernel under the tensile hoop stress (the
+    // tensile instability, which the Lagrangian kernel of TL does not have; docs/solid.md,
+    // "Which formulation carries damage"). Asserted as what the form does: accurate at 2 ms,
+    // then the hoop error grows more than five-fold by 4 ms.
+    const std::vector<LameResult> r = runLameAt(f, 20, 1.3, true, {2.0e-3, 4.0e-3});
+    std::printf("%s, rings, 20 across: at 2 ms radial %.2f %% p, hoop %.2f %% p; at 4 ms radial %.2f %% p, hoop %.2f %% p; %.1f s\n",
+                f.c_str(), 100 * r[0].radialError, 100 * r[0].hoopError, 100 * r[1].radialError,
+                100 * r[1].hoopError, r[1].wall);
+    test::recordValidation({"solid_lame_" + f + "_2ms", "max radial-stress error over 8 radial bins / p (2 ms)",
+                            r[0].radialError, 0.0, r[0].radialError, res, r[1].wall, "< 5 %", kLameRef});
+    test::recordValidation({"solid_lame_" + f + "_2ms", "max hoop-stress error over 8 radial bins / p (2 ms)",
+                            r[0].hoopError, 0.0, r[0].hoopError, res, r[1].wall, "< 2 %", kLameRef});
+    test::recordValidation({"solid_lame_" + f + "_4ms", "max hoop-stress error over 8 radial bins / p (4 ms)",
+                            r[1].hoopError, 0.0, r[1].hoopError, res, r[1].wall,
+                            "> 5 x the 2 ms error (instability, not validated)", kLameRef});
+    EXPECT_LT(r[0].radialError, 0.05);
+    EXPECT_LT(r[0].hoopError, 0.02);
+    EXPECT_GT(r[1].hoopError, 5.0 * r[0].hoopError);
+    return;
+  }
   const LameResult r = runLame(f, 20, 1.3, true);
   std::printf("%s, rings: max radial error %.2f %% p, max hoop error %.2f %% p, %lld particles, %.1f s\n",
               f.c_str(), 100 * r.radialError, 100 * r.hoopError, static_cast<long long>(r.particles), r.wall);
-  const std::string res = "20 body-fitted rings across the wall (a = 10 mm, b = 20 mm), h = 1.3 dx, quarter + mirrors";
-  // TL meets the issue's 5 % for both profiles. The stress-based small-strain form reaches 2.5 %
-  // radial but 10.9 % hoop (bin at the bore) at 20 rings and does NOT converge on rings
-  // (DISABLED_StudyStressBasedRings: hoop 41 % at 28, 24 % at 40, with bin-to-bin noise; see
-  // docs/solid.md): asserted at what it reaches here, not claimed as validated.
-  const bool tl = f == "total_lagrangian";
-  const double hoopTol = tl ? 0.05 : 0.12;
-  const std::string tol = tl ? "< 5 %" : "< 5 % radial, < 12 % hoop (issue asks 5 %)";
   test::recordValidation({"solid_lame_" + f, "max radial-stress error over 8 radial bins / p", r.radialError, 0.0,
-                          r.radialError, res, r.wall, tol, kLameRef});
+                          r.radialError, res, r.wall, "< 5 %", kLameRef});
   test::recordValidation({"solid_lame_" + f, "max hoop-stress error over 8 radial bins / p", r.hoopError, 0.0,
-                          r.hoopError, res, r.wall, tol, kLameRef});
+                          r.hoopError, res, r.wall, "< 5 %", kLameRef});
   EXPECT_LT(r.radialError, 0.05);
-  EXPECT_LT(r.hoopError, hoopTol);
-  if (f == "total_lagrangian") {
-    // convergence: finer wall, smaller error
-    const LameResult fine = runLame(f, 28, 1.3, true);
-    std::printf("  28 rings across the wall: radial %.2f %% p, hoop %.2f %% p, %.1f s\n",
-                100 * fine.radialError, 100 * fine.hoopError, fine.wall);
-    const std::string resFine = "28 body-fitted rings across the wall, h = 1.3 dx";
-    test::recordValidation({"solid_lame_" + f + "_28", "max radial-stress error over 8 radial bins / p",
-                            fine.radialError, 0.0, fine.radialError, resFine, fine.wall,
-                            "< 5 %, falling with resolution", kLameRef});
-    test::recordValidation({"solid_lame_" + f + "_28", "max hoop-stress error over 8 radial bins / p",
-                            fine.hoopError, 0.0, fine.hoopError, resFine, fine.wall,
-                            "< 5 %, falling with resolution", kLameRef});
-    EXPECT_LT(fine.hoopError, r.hoopError);
-    EXPECT_LT(fine.radialError, r.radialError);
-    // the same wall on a Cartesian lattice (staircase surfaces, as from imaged rock): recorded
-    const LameResult stair = runLame(f, 20, 1.3, false);
-    std::printf("  lattice (staircase), 20 across: radial %.2f %% p, hoop %.2f %% p, %.1f s\n",
-                100 * stair.radialError, 100 * stair.hoopError, stair.wall);
-    const std::string resStair = "20 across the wall on a Cartesian lattice (staircase surfaces), h = 1.3 dx";
-    test::recordValidation({"solid_lame_" + f + "_lattice", "max radial-stress error over 8 radial bins / p",
-                            stair.radialError, 0.0, stair.radialError, resStair, stair.wall,
-                            "recorded only (staircase surfaces)", kLameRef});
-    test::recordValidation({"solid_lame_" + f + "_lattice", "max hoop-stress error over 8 radial bins / p",
-                            stair.hoopError, 0.0, stair.hoopError, resStair, stair.wall,
-                            "recorded only (staircase surfaces)", kLameRef});
-  }
+  EXPECT_LT(r.hoopError, 0.05);
+  // convergence: finer wall, smaller error
+  const LameResult fine = runLame(f, 28, 1.3, true);
+  std::printf("  28 rings across the wall: radial %.2f %% p, hoop %.2f %% p, %.1f s\n",
+              100 * fine.radialError, 100 * fine.hoopError, fine.wall);
+  const std::string resFine = "28 body-fitted rings across the wall, h = 1.3 dx";
+  test::recordValidation({"solid_lame_" + f + "_28", "max radial-stress error over 8 radial bins / p",
+                          fine.radialError, 0.0, fine.radialError, resFine, fine.wall,
+                          "< 5 %, falling with resolution", kLameRef});
+  test::recordValidation({"solid_lame_" + f + "_28", "max hoop-stress error over 8 radial bins / p",
+                          fine.hoopError, 0.0, fine.hoopError, resFine, fine.wall,
+                          "< 5 %, falling with resolution", kLameRef});
+  EXPECT_LT(fine.hoopError, r.hoopError);
+  EXPECT_LT(fine.radialError, r.radialError);
+  // The same wall on a Cartesian lattice (staircase surfaces, as from imaged rock): the relaxed
+  // solution next to the staircase is wrong (docs/solid.md case 5: the first particles carry a
+  // flattened peak); measured 5.1 % / 17 % at 20 across, falling at first order with resolution
+  // (3.0 / 10 % at 28, 1.6 / 6.8 % at 40). Asserted at the measured level.
+  const LameResult stair = runLame(f, 20, 1.3, false);
+  std::printf("  lattice (staircase), 20 across: radial %.2f %% p, hoop %.2f %% p, %.1f s\n",
+              100 * stair.radialError, 100 * stair.hoopError, stair.wall);
+  const std::string resStair = "20 across the wall on a Cartesian lattice (staircase surfaces), h = 1.3 dx";
+  test::recordValidation({"solid_lame_" + f + "_lattice", "max radial-stress error over 8 radial bins / p",
+                          stair.radialError, 0.0, stair.radialError, resStair, stair.wall,
+                          "< 6 % (staircase surfaces)", kLameRef});
+  test::recordValidation({"solid_lame_" + f + "_lattice", "max hoop-stress error over 8 radial bins / p",
+                          stair.hoopError, 0.0, stair.hoopError, resStair, stair.wall,
+                          "< 20 % (staircase surfaces)", kLameRef});
+  EXPECT_LT(stair.radialError, 0.06);
+  EXPECT_LT(stair.hoopError, 0.20);
 }
 
 }  // namespace
@@ -180,11 +214,15 @@ TEST(SolidLame, DISABLED_StudyFortyAcrossTheWallLattice) {
               100 * r.radialError, 100 * r.hoopError, static_cast<long long>(r.particles), r.wall);
 }
 
-// The stress-based form on rings, 20 / 28 / 40 across (about 45 s): does not converge (see above).
+// The stress-based form on rings, 20 / 28 / 40 across, at 2, 4 and 8 ms of relaxation (a few
+// minutes): the error grows with time (see check() above); TL on the same particles for
+// comparison.
 TEST(SolidLame, DISABLED_StudyStressBasedRings) {
-  for (int nw : {20, 28, 40}) {
-    const LameResult r = runLame("small_strain_stress", nw, 1.3, true);
-    std::printf("Lame stress-based, %d rings: radial %.2f %% p, hoop %.2f %% p, %.1f s\n", nw,
-                100 * r.radialError, 100 * r.hoopError, r.wall);
-  }
+  for (const std::string f : {"small_strain_stress", "total_lagrangian"})
+    for (int nw : {20, 28, 40}) {
+      const std::vector<LameResult> r = runLameAt(f, nw, 1.3, true, {2.0e-3, 4.0e-3, 8.0e-3});
+      for (size_t k = 0; k < r.size(); ++k)
+        std::printf("Lame %s, %d rings, %g ms: radial %.2f %% p, hoop %.2f %% p, %.1f s\n", f.c_str(), nw,
+                    2.0 * (1 << k), 100 * r[k].radialError, 100 * r[k].hoopError, r[k].wall);
+    }
 }

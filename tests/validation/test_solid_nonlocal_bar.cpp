@@ -1,8 +1,9 @@
 // Validation 2 of issue 4: the non-local bar of thesis Chapter 3 (Sec. 4). The support lambda of
 // the kernel (lambda = 2h, cubic spline) is a length scale: beta^2 of the first mode falls with
-// lambda/L along the lattice law (Eqs. 7-8 with a = lambda). Asserted within 5 % up to
-// lambda/L = 0.3 (CC and CF); the continuum law (Eqs. 12-13 with e0 from Eqs. 19-20) is
-// reported beside it. The whole curve up to lambda/L = 0.5 is in docs/solid.md.
+// lambda/L along the lattice law (Eqs. 7-8 with a = lambda). Asserted on the non-local softening
+// itself (see sweep()) up to lambda/L = 0.3 (CC and CF); the continuum law (Eqs. 12-13 with e0
+// from Eqs. 19-20) is reported beside it. The whole curve up to lambda/L = 0.5 is in
+// docs/solid.md.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -80,23 +81,47 @@ double runBeta2(bool cc, double lamL, double& wall) {
   return rho * w * w * L * L / E;  // Eq. 4
 }
 
+// What distinguishes the non-local result from a local one is the softening beta^2 below the
+// local pi^2 (CC) or pi^2/4 (CF), which the lattice law gives as 0.8 / 3.2 / 7.2 % (CC) and
+// 0.2 / 0.8 / 1.8 % (CF) at lambda/L = 0.1 / 0.2 / 0.3. Asserted on that softening:
+//  - CC: the SPH softening equals the lattice law's within 5 % of it (measured within 0.6 %);
+//  - CF: the SPH softening is 1.2 to 2.2 times the lattice law's (measured 1.9 / 1.6 / 1.5: the
+//    free end, with its truncated support, softens the bar further than the lattice law, which
+//    has no free-end term); a local result (softening 0) fails both.
+// At lambda/L = 0.025 (softening 0.05 %) beta^2 is asserted within 0.05 % of the lattice law.
 void sweep(bool cc) {
+  const double local = (cc ? 1.0 : 0.25) * kPi * kPi;
   for (const double lamL : {0.025, 0.1, 0.2, 0.3}) {
     double wall = 0.0;
     const double b2 = runBeta2(cc, lamL, wall);
     const double lat = latticeLaw(cc, lamL), cont = continuumLaw(cc, lamL);
     const double err = std::abs(b2 - lat) / lat;
-    std::printf("%s lambda/L = %.3f: beta^2 = %.5f, lattice %.5f (%.2f %%), continuum %.5f, %.2f s\n",
-                cc ? "CC" : "CF", lamL, b2, lat, 100 * err, cont, wall);
-    char label[64];
-    std::snprintf(label, sizeof label, "beta^2 at lambda/L = %.3f", lamL);
-    test::recordValidation({cc ? "solid_nonlocal_bar_cc" : "solid_nonlocal_bar_cf", label, b2, lat, err,
-                            "200 points, lambda = 2h (cubic spline), dt = 5e-8 s", wall, "< 5 %",
+    const double soft = (local - b2) / local, softLat = (local - lat) / local;
+    std::printf("%s lambda/L = %.3f: beta^2 = %.5f, lattice %.5f (%.3f %%), continuum %.5f; softening %.3f %% "
+                "(lattice %.3f %%, ratio %.3f), %.2f s\n",
+                cc ? "CC" : "CF", lamL, b2, lat, 100 * err, cont, 100 * soft, 100 * softLat, soft / softLat, wall);
+    char label[96];
+    const char* tol = lamL < 0.05 ? "beta^2 within 0.05 % of the lattice law"
+                      : cc         ? "softening (1 - beta^2/pi^2) within 5 % of the lattice law's"
+                                   : "softening 1.2-2.2 x the lattice law's";
+    if (lamL < 0.05) {
+      std::snprintf(label, sizeof label, "beta^2 at lambda/L = %.3f", lamL);
+      test::recordValidation({cc ? "solid_nonlocal_bar_cc" : "solid_nonlocal_bar_cf", label, b2, lat, err,
+                              "200 points, lambda = 2h (cubic spline), dt = 5e-8 s", wall, tol,
+                              "lattice law, thesis Ch. 3 Eqs. 7-8 with a = lambda"});
+      EXPECT_LT(err, 5e-4) << "lambda/L = " << lamL;
+      continue;
+    }
+    std::snprintf(label, sizeof label, "non-local softening 1 - beta^2/beta^2_local at lambda/L = %.3f", lamL);
+    test::recordValidation({cc ? "solid_nonlocal_bar_cc" : "solid_nonlocal_bar_cf", label, soft, softLat,
+                            std::abs(soft - softLat) / softLat,
+                            "200 points, lambda = 2h (cubic spline), dt = 5e-8 s", wall, tol,
                             "lattice law, thesis Ch. 3 Eqs. 7-8 with a = lambda"});
-    EXPECT_LT(err, 0.05) << "lambda/L = " << lamL;
-    // and the frequency really falls with lambda (non-local softening)
-    if (lamL >= 0.2) {
-      EXPECT_LT(b2, (cc ? 1.0 : 0.25) * kPi * kPi * 0.99);
+    if (cc) {
+      EXPECT_NEAR(soft, softLat, 0.05 * softLat) << "lambda/L = " << lamL;
+    } else {
+      EXPECT_GT(soft / softLat, 1.2) << "lambda/L = " << lamL;
+      EXPECT_LT(soft / softLat, 2.2) << "lambda/L = " << lamL;
     }
   }
 }
