@@ -69,6 +69,26 @@ void DrainageModule::configure(Simulation& sim, const std::vector<const Material
                          " must be increasing and lie strictly inside the domain (" +
                          std::to_string(lo) + ", " + std::to_string(hi) +
                          "), leaving room for the reservoirs on both sides");
+  // Rigid bodies are boundaries (plates) unless named as inclusions of the sample.
+  inclusion_.assign(sim.materials.size(), 0);
+  if (s.has("inclusions")) {
+    const YAML::Node list = s.raw("inclusions");
+    if (!list.IsSequence()) s.fail("inclusions", "a list of rigid material names, e.g. [quartz]");
+    for (const auto& item : list) {
+      const std::string name = item.as<std::string>();
+      bool found = false;
+      for (const Material& m : sim.materials)
+        if (m.name == name) {
+          if (m.phase != kPhaseRigid)
+            s.fail("inclusions", "material '" + name + "' is a " + phaseName(m.phase) +
+                                     " material; list rigid inclusions only (solid materials "
+                                     "count as the sample's solid anyway)");
+          inclusion_[static_cast<size_t>(m.id)] = 1;
+          found = true;
+        }
+      if (!found) s.fail("inclusions", "no material is named '" + name + "'");
+    }
+  }
   pressureDrop_ = s.real("pressure_drop", 0.0, Range::nonNegative());
   const std::string push = s.choice("push", "negative", {"negative", "positive"});
   rampTime_ = s.real("ramp_time", 0.0, Range::nonNegative());
@@ -175,6 +195,7 @@ void DrainageModule::diagnostics(const Simulation& sim,
   const double* rho = st.data(st.density());
   const std::int32_t* mt = st.data(st.material());
   const std::int32_t* ph = st.data(st.phase());
+  const char* incl = inclusion_.data();
   const double* dmg = st.has("damage") ? st.data(st.real("damage")) : nullptr;
   const double* sig = st.has("stress") && st.components(st.real("stress").id) == d * d
                           ? st.data(st.real("stress"))
@@ -191,7 +212,7 @@ void DrainageModule::diagnostics(const Simulation& sim,
       vFluid += v;
       if (mt[i] == invading_) vInv += v;
       if (mt[i] == defending_) vDef += v;
-    } else if (ph[i] == kPhaseSolid || ph[i] == kPhaseRigid) {
+    } else if (ph[i] == kPhaseSolid || (ph[i] == kPhaseRigid && incl[mt[i]])) {
       vSolid += v;
       if (ph[i] != kPhaseSolid) continue;
       if (dmg) {

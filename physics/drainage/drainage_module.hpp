@@ -12,7 +12,8 @@
 //
 // What it measures (timeseries.csv columns, all counted in the sample slab, volumes V = m/rho of
 // the current density, so the porosity follows the deformed solid):
-//   drainage_porosity          V_fluid / (V_fluid + V_solid)       (solid + rigid particles)
+//   drainage_porosity          V_fluid / (V_fluid + V_solid)       (solid particles and rigid
+//                              bodies listed in `inclusions`; other rigid bodies are plates)
 //   drainage_gas_saturation    V_invading / V_fluid, drainage_water_saturation V_defending / V_fluid
 //   drainage_percolated        1 once a cluster of invading particles (links shorter than
 //                              `link_distance` x dx, periodic images not used) reaches within
@@ -55,6 +56,7 @@ class DrainageModule : public Module {
   double sampleLo_ = 0.0, sampleHi_ = 0.0;
   double pressureDrop_ = 0.0, force_ = 0.0, rampTime_ = 0.0, linkDistance_ = 1.5;
   int invading_ = -1, defending_ = -1;  // material ids
+  std::vector<char> inclusion_;           // by material id: a rigid inclusion of the sample
   long checkEvery_ = 10;
   mutable double percolationTime_ = -1.0;  // first time seen (endOfStep or an output row)
   std::string where_;
