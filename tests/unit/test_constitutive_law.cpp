@@ -9,6 +9,7 @@
 
 #include "physics/solid/constitutive_law.hpp"
 #include "physics/solid/elastic_solid.hpp"
+#include "physics/solid/solid_scenes.hpp"
 
 using namespace poresph;
 using namespace poresph::solid;
@@ -152,4 +153,54 @@ TEST(ConstitutiveLaw, BadDamageSectionsAreNamed) {
                 "2e-3, compressive_strain_onset: 1e-2}").find("friction_angle"),
             std::string::npos);
   EXPECT_EQ(msg("{law: at2, critical_energy_release: 1}"), "no error");
+}
+
+// The solid registers the damage fields only when a material has `damage:`, and a bad key of the
+// section is named with the material's path.
+
+TEST(ConstitutiveLaw, DamageFieldsOnlyWithDamage) {
+  for (bool damage : {false, true}) {
+    Simulation sim(1);
+    solid::addMaterial(sim, "bar", "elastic",
+                       std::string("{density: 1000, young_modulus: 1e9") +
+                           (damage ? ", damage: {law: at2, critical_energy_release: 100}}" : "}"));
+    sim.spacing = 1e-3;
+    sim.kernel = Kernel(KernelType::CubicSpline, 1, 1.3e-3);
+    sim.store.addParticles(10);
+    double* x = sim.store.data(sim.store.position());
+    for (int i = 0; i < 10; ++i) x[i] = i * 1e-3;
+    sim.domain.lo = {-1, 0, 0};
+    sim.domain.hi = {1, 1, 1};
+    solid::ElasticSolidModule& s = solid::addSolidModule(sim);
+    EXPECT_EQ(s.hasDamage(), damage);
+    EXPECT_EQ(sim.store.has("damage"), damage);
+    EXPECT_EQ(sim.store.has("damage_dissipation"), damage);
+    EXPECT_FALSE(sim.store.has("damage_history"));  // Rankine/Mohr-Coulomb only
+  }
+}
+
+TEST(ConstitutiveLaw, BadDamageKeyInASceneIsNamedWithItsPath) {
+  Simulation sim(2);
+  solid::addMaterial(sim, "clay", "elastic",
+                     "{density: 1000, young_modulus: 1e9, poisson_ratio: 0.2, "
+                     "damage: {law: pcw, strain_onset: 1e-3, strain_ultimat: 2e-3}}");
+  try {
+    solid::addSolidModule(sim);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("damage"), std::string::npos) << m;
+    EXPECT_NE(m.find("strain_ultimate"), std::string::npos) << m;  // missing (and suggested)
+  }
+  Simulation sim2(2);
+  solid::addMaterial(sim2, "clay", "elastic",
+                     "{density: 1000, young_modulus: 1e9, poisson_ratio: 0.2, "
+                     "formulation: small_strain_displacement, "
+                     "damage: {law: at2, critical_energy_release: 100}}");
+  try {
+    solid::addSolidModule(sim2);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("displacement-based"), std::string::npos) << e.what();
+  }
 }
