@@ -4,6 +4,7 @@
 //   poresph info SCENE [--threads N]
 //   poresph image FILE [--shape NX NY NZ] [--pore-label L] [--connectivity C] ... (app/image_command.cpp)
 //   poresph synth OUT [--shape NX NY NZ] [--porosity P] ...                      (app/image_command.cpp)
+//   poresph sweep SCENE --set key=v1,v2 [--set ...] --out DIR [--summary cols]  (app/sweep_command.cpp)
 //   poresph --help | --version
 //
 // Exit codes: 0 done, 2 bad input (scene, options, output directory), 3 numerical blow-up,
@@ -85,11 +86,11 @@ int commandInfo(const std::string& scenePath) {
 /// of CLI11's "The following arguments were not expected".
 void checkCommand(int argc, char** argv) {
   if (argc < 2 || argv[1][0] == '-') return;
-  const std::vector<std::string> commands = {"run", "info", "image", "synth"};
+  const std::vector<std::string> commands = {"run", "info", "image", "synth", "sweep"};
   const std::string word = argv[1];
   if (std::find(commands.begin(), commands.end(), word) != commands.end()) return;
   const std::string guess = closestMatch(word, commands);
-  throw InputError("unknown command '" + word + "'; commands: run, info, image, synth" +
+  throw InputError("unknown command '" + word + "'; commands: run, info, image, synth, sweep" +
                    (guess.empty() ? std::string() : " (did you mean '" + guess + "'?)") +
                    "; see poresph --help");
 }
@@ -221,7 +222,8 @@ int main(int argc, char** argv) {
   info->add_option("--threads,-t", threadsText, "OpenMP threads, 1 .. 4 x cores");
 
   // Commands in their own files (app/commands.hpp); their values are checked when they run.
-  const std::vector<app::Command> commands = {app::addImageCommand(app), app::addSynthCommand(app)};
+  const std::vector<app::Command> commands = {app::addImageCommand(app), app::addSynthCommand(app),
+                                                app::addSweepCommand(app)};
 
   try {
     checkCommand(argc, argv);
