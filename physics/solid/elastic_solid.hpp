@@ -11,8 +11,10 @@
 //    Eq. 2.46c / 2.89 (Eq. 2.90, written for 1D, 2D and 3D).
 // Plus Monaghan artificial viscosity (2.64-2.65), XSPH (2.66), viscous damping for dynamic
 // relaxation, TL hourglass control, boundary conditions (clamped and symmetry layers with mirror
-// images, imposed velocity/displacement ramps, traction, pressure) and energy bookkeeping. See
-// docs/solid.md.
+// images, imposed velocity/displacement ramps on all or some components (rollers), traction,
+// pressure) and energy bookkeeping. TL reference families cross periodic faces (images at
+// initialise, minimum-image separations). TL is the formulation that carries damage (issue 13,
+// docs/solid.md "Which formulation carries damage"). See docs/solid.md.
 //
 // Fields registered (store names): reference_position, displacement, strain, stress (Cauchy),
 // internal_energy (+ _rate), solid_work (3: boundary work, external work, dissipated) (+ _rate),

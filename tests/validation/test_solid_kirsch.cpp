@@ -9,8 +9,8 @@
 // nearest 90 deg (sigma_tt is even about 90 deg), and K_t is the quadratic extrapolation of the
 // first three rings (r = a + dx/2, a + 3 dx/2, a + 5 dx/2) to the surface r = a. Measured at 8
 // particles per radius: K_t = 2.87 (4.4 % low), asserted < 10 %. The same plate on a Cartesian
-// lattice (staircase hole, what a voxel image gives) gives K_t = 2.06 and is recorded, not
-// asserted. Imposing Kirsch's exact displacement shows that the strain operator is not the cause
+// lattice (staircase hole, what a voxel image gives) gives K_t = 2.06, asserted at that level
+// (< 35 % low) and below the rings' value by more than 0.5. Imposing Kirsch's exact displacement shows that the strain operator is not the cause
 // (first particle 2.42 vs 2.61 on the lattice, 2.48 vs 2.62 on the rings): the staircase changes
 // the discrete equilibrium. See docs/solid.md, case 5.
 #include <gtest/gtest.h>
@@ -174,9 +174,13 @@ TEST(SolidKirsch, HoopStressConcentration) {
   const double errq = std::abs(q.kt - 3.0) / 3.0;
   std::printf("Kirsch, lattice: K_t (extrapolated) = %.3f (%.1f %%), first particle %.3f, profile error %.1f %%, %.1f s\n",
               q.kt, 100 * errq, q.first, 100 * q.profileError, q.wall);
+  // The staircase deficit (docs/solid.md case 5: the relaxed solution next to the staircase
+  // flattens the peak; 2.36 at 16 per radius) asserted at its measured level: 2.06, 31 % low.
   test::recordValidation({"solid_kirsch_2d_lattice", "K_t: sigma_xx(dx/2, y) of the first 3 particles extrapolated to r = a",
                           q.kt, 3.0, errq, "hole radius 8 dx on a Cartesian lattice (staircase), h = 1.3 dx", q.wall,
-                          "recorded only (staircase hole)", "Kirsch (infinite plate)"});
+                          "< 35 % (staircase hole; rings: < 10 %)", "Kirsch (infinite plate)"});
+  EXPECT_LT(errq, 0.35);
+  EXPECT_GT(r.kt, q.kt + 0.5);  // the body-fitted surface is what removes the deficit
 }
 
 // The strain operator alone: Kirsch's displacement imposed on every particle (no equilibrium
