@@ -85,6 +85,9 @@ void ConstitutiveLaw::configureDamage(const ParameterSet& p) {
     // onset psi+ = Yc0 / (a + b) (PCW) or Yc0 / 2 (AT-1): Yc0 from psi+ at eps_0
     yc0 = type == DamageLawType::PCW ? (a + b) * psi0 : 2.0 * psi0;
   }
+  if (type == DamageLawType::PCW && a * limit >= 1.0)
+    p.fail("a", "g(D) = (1 - a D)/(1 + b D) must stay positive up to the damage limit s_l = " +
+                    std::to_string(limit) + ": a < 1 / s_l");
   p.finish();
 }
 

@@ -152,6 +152,7 @@ TEST(ConstitutiveLaw, BadDamageSectionsAreNamed) {
   EXPECT_NE(msg("{law: rankine_mohr_coulomb, tensile_strain_onset: 1e-3, tensile_strain_ultimate: "
                 "2e-3, compressive_strain_onset: 1e-2}").find("friction_angle"),
             std::string::npos);
+  EXPECT_NE(msg("{law: pcw, a: 1.2, b: 1, critical_energy_release: 1}").find("a < 1 / s_l"), std::string::npos);
   EXPECT_EQ(msg("{law: at2, critical_energy_release: 1}"), "no error");
 }
 
