@@ -33,9 +33,9 @@ struct PlateSetup {
 };
 
 struct PlateResult {
-  double uOnset = -1.0;     ///< imposed displacement when the first particle reached the threshold
+  double uOnset = 0.0;      ///< imposed displacement when the first particle reached the threshold (0: never)
   double xOnset = 0.0, yOnset = 0.0;
-  double uCross = -1.0;     ///< ... when damaged particles touch both lateral sides
+  double uCross = 0.0;      ///< ... when damaged particles touch both lateral sides (0: never)
   double asymmetry = 0.0;   ///< sum |D(x, y) - D(-x, y)| / sum D at the end
   double width = 0.0;       ///< damaged width across the crack at x = +-(a + L/6) [m], at the end
   double widthCross = 0.0;  ///< the same when the crack first reached both sides
@@ -149,6 +149,8 @@ inline PlateResult runPlate(const PlateSetup& s) {
       width += 0.5 * count * dx;
     }
   };
+  bool onset = false, crossed = false;  // (u < 0 in compression)
+  r.uOnset = r.uCross = 0.0;
   while (sim.time < ramp * (1 - 1e-9)) {
     integrator->step(sim, std::min(dt, ramp - sim.time));
     ++r.steps;
@@ -157,7 +159,8 @@ inline PlateResult runPlate(const PlateSetup& s) {
     bool left = false, right = false;
     for (Index i = 0; i < sim.store.realCount(); ++i) {
       if (mat[i] != 0 || mo[i] == kMotionPrescribed || D[i] < s.threshold) continue;
-      if (r.uOnset < 0.0) {
+      if (!onset) {
+        onset = true;
         r.uOnset = u;
         r.xOnset = X[2 * i];
         r.yOnset = X[2 * i + 1];
@@ -166,7 +169,8 @@ inline PlateResult runPlate(const PlateSetup& s) {
       if (X[2 * i] < -0.5 * L + 1.5 * dx) left = true;
       if (X[2 * i] > 0.5 * L - 1.5 * dx) right = true;
     }
-    if (left && right && r.uCross < 0.0) {
+    if (left && right && !crossed) {
+      crossed = true;
       r.uCross = u;
       double asym = 0.0;
       measure(asym, r.widthCross);

@@ -58,7 +58,7 @@ TEST(DamagePlate, CoarseTensionAT2CrackFromTheInclusionTopToBothSides) {
               "D max %.3f, %.1f s\n",
               r.particles, r.steps, 1e6 * r.uOnset, 1e3 * r.xOnset, 1e3 * r.yOnset, 1e6 * r.uCross,
               r.asymmetry, 1e3 * r.widthCross, 1e3 * r.width, 1e3 * s.support, r.balance, r.dmax, r.wall);
-  ASSERT_GT(r.uOnset, 0.0);
+  ASSERT_GT(r.uOnset, 0.0) << "no damage";
   EXPECT_LT(std::abs(r.xOnset), a);
   EXPECT_GT(r.yOnset, a);
   EXPECT_LT(r.yOnset, a + 2 * s.support);
