@@ -759,11 +759,17 @@ void FluidModule::forcesD(Simulation& sim) {
         const double w = densityWeightedCsf_ && fl ? 2.0 * rho[i] / (rho[i] + rho[j]) : 1.0;
         nW += (w * Vb * dc) * gradW;
         const double kb = fl ? kap[j] : 0.0, ka = kap[i];
-        if (ka != 0.0 || kb != 0.0) {
-          // Curvature at the pair's midpoint: the mean of the two (one side's if the other has
-          // no reliable normal; the harmonic mean, exact for (D-1)/r, is biased low by the
-          // particle noise of kappa, ~50 % of 1/R per particle at R/dx = 10).
-          const double km = ka == 0.0 ? kb : kb == 0.0 ? ka : 0.5 * (ka + kb);
+        {
+          // The pair's share of the force sits on its heavy side (w > 1): there the curvature
+          // is moved towards the partner's, kappa_a + (1 - 1/w)(kappa_b - kappa_a), so that the
+          // two sides' forces of the pair add up to (kappa_a + kappa_b)/2, the curvature at the
+          // interface, whatever the density ratio (w_ab kappa_a' + w_ba kappa_b' = kappa_a +
+          // kappa_b with w_ab + w_ba = 2). At equal densities w = 1: each particle keeps its own
+          // kappa (the lattice-aligned wetting depends on that near the contact line); at ratio
+          // 1000 the heavy side takes the mean (the harmonic mean, exact for (D-1)/r, is biased
+          // low by the particle noise of kappa, ~50 % of 1/R per particle at R/dx = 10).
+          const double beta = (kb != 0.0 && w > 1.0) ? 1.0 - 1.0 / w : 0.0;
+          const double km = ka + beta * (kb - ka);
           const double wt = w * Vb * std::abs(dc * F) * r.norm();
           kS += km * wt;
           wS += wt;

@@ -54,3 +54,12 @@ TEST(DISABLED_Probe, StaticDrop) {
   const std::string dump = envs("PROBE_DUMP", "");
   if (!dump.empty()) d.dumpSlice(dump);
 }
+
+// Tilted staircase wall: PROBE_THETA, PROBE_TILT, PROBE_RDX, PROBE_TEND, PROBE_EXTRA.
+#include "tests/validation/fluid_wetting_case.hpp"
+TEST(DISABLED_Probe, TiltedSessile) {
+  const auto r = test::runTiltedSessile(env("PROBE_THETA", 60), env("PROBE_TILT", 30),
+                                        static_cast<int>(env("PROBE_RDX", 10)), env("PROBE_TEND", 0.06), false,
+                                        envs("PROBE_EXTRA", ""));
+  EXPECT_GT(r.theta, 0.0);
+}

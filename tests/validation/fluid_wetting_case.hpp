@@ -1,0 +1,195 @@
+#pragma once
+// Wetting on a wall that is not aligned with the particle lattice (issue 14): a flat wall tilted
+// by alpha, represented as the lattice sites below the tilted line (a voxel staircase, as every
+// pore wall of an imaged rock is). Scene (2D, not periodic): the fluid fills a rectangle of
+// 5 R0 x 2.5 R0 in the wall's frame (t along the wall, s normal to it, s > 0 in the fluid),
+// 3 dx of wall particles (contact angle theta) below s = 0, and 3 dx of "lid" walls of angle
+// 180 degrees (the gas colour: no interface along them) around the other sides. The drop starts
+// as a rectangle standing on the wall (width 1.8 R0, the area of a half disc of radius R0): not
+// the answer for any angle. Equal densities and viscosities (Oh = 0.18), p_b = 100 Pa, quintic
+// h = dx, as the lattice-aligned sessile test (test_fluid_sessile.cpp).
+// Contact angle: circle fit (Kasa) to the midpoints of liquid-gas pairs closer than 1.5 dx that
+// lie more than 2 dx above the wall, in the wall's frame; cos(theta) = -s_c / r where the circle
+// meets s = 0.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "libcore/phases.hpp"
+#include "physics/fluid/fluid_setup.hpp"
+#include "tests/support/validation_record.hpp"
+
+namespace poresph::test {
+
+struct TiltedSessile {
+  static constexpr double kPi = 3.14159265358979323846;
+  Simulation sim{2};
+  FluidModule* fluid = nullptr;
+  fluidsetup::Stepper stepper;
+  double R0, dx, alpha, gamma = 0.05, mu = 0.05, rho = 1000.0, c = 2.0, pb = 100.0;
+  Eigen::Vector2d P0, t, n;  // wall frame: origin, tangent, normal into the fluid
+  int liquid = 0, gas = 1;
+
+  TiltedSessile(double thetaDeg, double alphaDeg, double radius, int rOverDx, const std::string& extra = "") {
+    namespace fs = poresph::fluidsetup;
+    R0 = radius;
+    dx = R0 / rOverDx;
+    alpha = alphaDeg * kPi / 180.0;
+    t = Eigen::Vector2d(std::cos(alpha), std::sin(alpha));
+    n = Eigen::Vector2d(-std::sin(alpha), std::cos(alpha));
+    const double Lt = 5.0 * R0, Hs = 2.5 * R0, w = 3.0 * dx;
+    // bounding box of the rectangle grown by the wall thickness
+    double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+    for (double a : {-0.5 * Lt - w, 0.5 * Lt + w})
+      for (double b : {-w, Hs + w}) {
+        const Eigen::Vector2d p = a * t + b * n;
+        for (int k = 0; k < 2; ++k) lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
+      }
+    // the lattice x = lo + (k + 1/2) dx with the origin P0 off the lattice sites by a generic offset
+    P0 = Eigen::Vector2d(-lo[0] + 0.37 * dx, -lo[1] + 0.21 * dx);
+    const double Bx = std::ceil((hi[0] - lo[0]) / dx + 1) * dx, By = std::ceil((hi[1] - lo[1]) / dx + 1) * dx;
+    sim.spacing = dx;
+    sim.kernel = Kernel(KernelType::QuinticSpline, 2, dx);
+    sim.domain.lo = {0, 0, 0};
+    sim.domain.hi = {Bx, By, 0};
+    sim.domain.periodic = {false, false, false};
+    char buf[300];
+    std::snprintf(buf, sizeof buf, "{density: %g, sound_speed: %g, viscosity: %g, colour: 1, background_pressure: %g}",
+                  rho, c, mu, pb);
+    liquid = fs::addMaterial(sim, "liquid", "fluid", buf);
+    std::snprintf(buf, sizeof buf, "{density: %g, sound_speed: %g, viscosity: %g, colour: -1, background_pressure: %g}",
+                  rho, c, mu, pb);
+    gas = fs::addMaterial(sim, "gas", "fluid", buf);
+    std::snprintf(buf, sizeof buf, "{density: %g, contact_angle: %g}", rho, thetaDeg);
+    const int wall = fs::addMaterial(sim, "wall", "wall", buf);
+    const int lid = fs::addMaterial(sim, "lid", "wall", "{density: 1000, contact_angle: 180}");
+    std::snprintf(buf, sizeof buf, "{surface_tension: %g%s}", gamma, extra.c_str());
+    fluid = fs::addFluidModule(sim, buf);
+    const double a = 0.9 * R0, b = 0.5 * kPi * R0 * R0 / (2.0 * a);  // rectangle of the half disc's area
+    const Eigen::Vector2d P = P0;
+    const Eigen::Vector2d T = t, N = n;
+    auto frame = [P, T, N](const double* x, double& tt, double& ss) {
+      const Eigen::Vector2d d(x[0] - P[0], x[1] - P[1]);
+      tt = d.dot(T);
+      ss = d.dot(N);
+    };
+    auto inFluid = [=](const double* x) {
+      double tt, ss;
+      frame(x, tt, ss);
+      return ss > 0.0 && ss < Hs && std::abs(tt) < 0.5 * Lt;
+    };
+    auto inDrop = [=](const double* x) {
+      double tt, ss;
+      frame(x, tt, ss);
+      return inFluid(x) && std::abs(tt) < a && ss < b;
+    };
+    auto inFloor = [=](const double* x) {
+      double tt, ss;
+      frame(x, tt, ss);
+      return ss <= 0.0 && ss > -w && std::abs(tt) < 0.5 * Lt + w;
+    };
+    auto inLid = [=](const double* x) {
+      double tt, ss;
+      frame(x, tt, ss);
+      return !inFluid(x) && !inFloor(x) && ss > -w && ss < Hs + w && std::abs(tt) < 0.5 * Lt + w;
+    };
+    fs::addLattice(sim, {0, 0}, {Bx, By}, liquid, inDrop);
+    fs::addLattice(sim, {0, 0}, {Bx, By}, gas, [&](const double* x) { return inFluid(x) && !inDrop(x); });
+    fs::addLattice(sim, {0, 0}, {Bx, By}, wall, inFloor);
+    fs::addLattice(sim, {0, 0}, {Bx, By}, lid, inLid);
+    fluid->initialise(sim);
+  }
+
+  /// Contact angle (degrees, through the liquid) by the circle fit in the wall frame.
+  double contactAngle(double& rc, double& sc, int& npts) {
+    sim.updateNeighbours();
+    const auto& st = sim.store;
+    const double* x = st.data(st.position());
+    const std::int32_t* mt = st.data(st.material());
+    const auto& nl = sim.neighbours;
+    std::vector<Eigen::Vector2d> pts;
+    for (Index i = 0; i < st.realCount(); ++i) {
+      if (mt[i] != liquid) continue;
+      for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
+        const Index j = nl.index[static_cast<size_t>(k)];
+        if (mt[j] != gas) continue;
+        const Eigen::Vector2d pa(x[2 * i], x[2 * i + 1]), pb2(x[2 * j], x[2 * j + 1]);
+        if ((pa - pb2).norm() > 1.5 * dx) continue;
+        const Eigen::Vector2d d = 0.5 * (pa + pb2) - P0;
+        const Eigen::Vector2d q(d.dot(t), d.dot(n));
+        if (q.y() > 2.0 * dx) pts.push_back(q);
+      }
+    }
+    npts = static_cast<int>(pts.size());
+    Eigen::MatrixXd A(npts, 3);
+    Eigen::VectorXd b(npts);
+    for (int k = 0; k < npts; ++k) {
+      const auto& p = pts[static_cast<size_t>(k)];
+      A.row(k) << p.x(), p.y(), 1.0;
+      b[k] = -(p.x() * p.x() + p.y() * p.y());
+    }
+    const Eigen::Vector3d s = A.colPivHouseholderQr().solve(b);
+    const double tc = -0.5 * s[0];
+    sc = -0.5 * s[1];
+    rc = std::sqrt(tc * tc + sc * sc - s[2]);
+    return std::acos(std::clamp(-sc / rc, -1.0, 1.0)) * 180.0 / kPi;
+  }
+
+  void dump(const std::string& name) const {
+    const auto& st = sim.store;
+    std::ofstream f(std::string(PORESPH_BINARY_DIR) + "/" + name);
+    const double* x = st.data(st.position());
+    const std::int32_t* mt = st.data(st.material());
+    for (Index i = 0; i < st.realCount(); ++i) f << x[2 * i] << " " << x[2 * i + 1] << " " << mt[i] << "\n";
+  }
+};
+
+struct WettingResult {
+  double theta = 0, thetaHalf = 0, wall = 0;
+  long long steps = 0, particles = 0;
+};
+
+/// Runs the tilted sessile drop to tEnd; the angle at tEnd / 2 and tEnd (the drop must have settled).
+inline WettingResult runTiltedSessile(double thetaDeg, double alphaDeg, int rdx, double tEnd, bool record,
+                                      const std::string& extra = "") {
+  Stopwatch clock;
+  TiltedSessile s(thetaDeg, alphaDeg, 1.5e-3, rdx, extra);
+  WettingResult r;
+  double rc = 0, sc = 0;
+  int np = 0;
+  s.stepper.runTo(s.sim, 0.5 * tEnd);
+  r.thetaHalf = s.contactAngle(rc, sc, np);
+  s.stepper.runTo(s.sim, tEnd);
+  r.theta = s.contactAngle(rc, sc, np);
+  r.steps = static_cast<long long>(s.sim.step);
+  r.particles = static_cast<long long>(s.sim.store.realCount());
+  r.wall = clock.seconds();
+  std::printf("tilted wall %.0f deg, theta %.0f, R0/dx %d: measured %.2f deg at t/2, %.2f deg at t = %.0f ms (r = %.3e, "
+              "%d points), %lld particles, %lld steps, %.1f s\n",
+              alphaDeg, thetaDeg, rdx, r.thetaHalf, r.theta, 1e3 * tEnd, rc, np, r.particles, r.steps, r.wall);
+  std::fflush(stdout);
+  char name[96];
+  std::snprintf(name, sizeof name, "fluid_wetting_tilt%.0f_theta%.0f_r%d.txt", alphaDeg, thetaDeg, rdx);
+  s.dump(name);
+  if (record) {
+    char cs[96], res[240];
+    std::snprintf(cs, sizeof cs, "fluid_wetting_tilted%.0f_theta%.0f_R%d", alphaDeg, thetaDeg, rdx);
+    std::snprintf(res, sizeof res,
+                  "2D, wall tilted %.0f degrees as a lattice staircase, R0/dx = %d, rectangle start, quintic h = dx, "
+                  "Oh = 0.18, equal densities, p_b = 100 Pa, t = %.0f ms, %lld steps",
+                  alphaDeg, rdx, 1e3 * tEnd, r.steps);
+    recordValidation({cs, "contact angle (degrees), circle fit in the wall frame above 2 dx", r.theta, thetaDeg,
+                      std::abs(r.theta - thetaDeg) / thetaDeg, res, r.wall, "|error| < 5 degrees",
+                      "prescribed wall angle, colour cos(theta) (Eq. 1.10), wetting: normal"});
+  }
+  return r;
+}
+
+}  // namespace poresph::test
