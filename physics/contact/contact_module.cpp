@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "libcore/contact_repulsion.hpp"
 #include "libcore/phases.hpp"
 #include "libcore/simulation.hpp"
 
@@ -38,7 +39,7 @@ void ContactModule::interfacesD(Simulation& sim) {
   const std::int32_t* mt = st.data(st.material());
   const std::int32_t* mo = st.data(sim.motion);
   double* acc = st.data(sim.acceleration);
-  const double dx = sim.spacing, area = std::pow(dx, D - 1);
+  const double dx = sim.spacing;
 #pragma omp parallel for schedule(dynamic, 256)
   for (Index i = 0; i < n; ++i) {
     if (ph[i] != kPhaseSolid || mo[i] == kMotionFixed) continue;
@@ -51,8 +52,9 @@ void ContactModule::interfacesD(Simulation& sim) {
       for (int c = 0; c < D; ++c) r[c] = x[i * D + c] - x[j * D + c];
       const double d = r.norm();
       if (d >= dx || d == 0.0) continue;
-      // Eq. A.18 with B(r) = 2 k_s dx^(D-1) (1 - r/dx): pushes the solid particle off the wall.
-      const double B = 2.0 * k * area * (1.0 - d / dx);
+      // Eq. A.18 with B(r) = 2 k_s dx^(D-1) (1 - r/dx) (libcore/contact_repulsion.hpp, shared
+      // with the rigid module): pushes the solid particle off the wall.
+      const double B = repulsionStrength<D>(d, k, dx);
       f += (m[j] / (m[i] + m[j]) * B / d) * r;
     }
     for (int c = 0; c < D; ++c) acc[i * D + c] += f[c] / m[i];

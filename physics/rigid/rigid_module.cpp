@@ -80,6 +80,7 @@ void RigidModule::configure(Simulation& sim, const std::vector<const Material*>&
       }
     }
     r.rotate = p.boolean("rotate", true);
+    r.damping = p.real("damping", 0.0, Range::nonNegative());
     if (p.has("angular_velocity")) {
       if (d == 1) p.fail("angular_velocity", "a 1D body does not rotate");
       const std::vector<double> w = p.reals("angular_velocity", d == 2 ? 1u : 3u);
@@ -100,7 +101,7 @@ void RigidModule::configure(Simulation& sim, const std::vector<const Material*>&
         r.plateDirection[static_cast<size_t>(a)] = dir[static_cast<size_t>(a)] / norm;
       r.plateStress = pl.real("stress", Range::any());
       r.plateArea = pl.real("area", Range::positive());
-      r.plateDamping = pl.real("damping", 0.0, Range::nonNegative());
+      r.plateRampTime = pl.real("ramp_time", 0.0, Range::nonNegative());
       pl.finish();
       if (r.fixed) p.fail("plate", "a plate moves to carry its load: it cannot also be fixed");
       r.rotate = false;
@@ -115,13 +116,17 @@ void RigidModule::configure(Simulation& sim, const std::vector<const Material*>&
     mats_.push_back(r);
   }
   gravity_ = {0, 0, 0};
-  fluidModel_ = BoundaryModel::Mirror;
+  // Extrapolated (Adami) by default: with p_b extrapolated to the body particle's own depth the
+  // pair sum of (p_a + p_b) grad W over a flat face is p(face) x area for a linear pressure, so
+  // the buoyancy is exact; the mirror model (p_b = p_a) weights the deeper fluid particles and
+  // over-estimates it by ~rho g dx per unit area (a neutrally buoyant body rises). docs/rigid.md
+  fluidModel_ = BoundaryModel::Extrapolated;
   if (section) {
     if (section->has("gravity")) {
       const std::vector<double> g = section->reals("gravity", static_cast<size_t>(d));
       for (int a = 0; a < d; ++a) gravity_[static_cast<size_t>(a)] = g[static_cast<size_t>(a)];
     }
-    fluidModel_ = section->choice("fluid_rigid", "mirror", {"mirror", "extrapolated"}) ==
+    fluidModel_ = section->choice("fluid_rigid", "extrapolated", {"mirror", "extrapolated"}) ==
                           "extrapolated"
                       ? BoundaryModel::Extrapolated
                       : BoundaryModel::Mirror;
@@ -343,6 +348,11 @@ void RigidModule::initialise(Simulation& sim) {
     maxContactModulus_ = std::max(maxContactModulus_, r.contactModulus);
     minRigidDensity_ = std::min(minRigidDensity_, r.density);
   }
+  // The contact springs also act on the particles of elastic solids (rigid-solid pairs): the
+  // lightest particle on either side sets the contact's time step.
+  for (const Material& mat : sim.materials)
+    if (mat.phase == kPhaseSolid && mat.density > 0.0)
+      minRigidDensity_ = std::min(minRigidDensity_, mat.density);
   // Fluid-rigid pairs: the fluid module's extrapolated boundary state.
   fluidPairs_ = st.has("pressure") && st.has("wall_velocity");
   if (fluidPairs_) {
@@ -572,12 +582,16 @@ void RigidModule::constrain(RigidBody& B, const V3& F, const V3& T, V3& acc, V3&
   if (rm.fixed) return;
   if (rm.plate) {
     const V3 dir(rm.plateDirection[0], rm.plateDirection[1], rm.plateDirection[2]);
-    const double load = rm.plateStress * rm.plateArea;
-    acc = ((F.dot(dir) + load) / M - rm.plateDamping * B.state.V.dot(dir)) * dir;
+    // Ramped like the solid's and the drainage module's loads (no step: no stress wave).
+    const double ramp = rm.plateRampTime > 0.0 ? std::min(1.0, time_ / rm.plateRampTime) : 1.0;
+    const double load = rm.plateStress * rm.plateArea * ramp;
+    acc = ((F.dot(dir) + load) / M - rm.damping * B.state.V.dot(dir)) * dir;
     return;
   }
-  for (int a = 0; a < 3; ++a) acc[a] = rm.translate[static_cast<size_t>(a)] * F[a] / M;
-  if (rm.rotate) torque = T;
+  // Viscous damping of the body's motion (dynamic relaxation to a static state): -c V, -c L.
+  for (int a = 0; a < 3; ++a)
+    acc[a] = rm.translate[static_cast<size_t>(a)] * (F[a] / M - rm.damping * B.state.V[a]);
+  if (rm.rotate) torque = T - rm.damping * B.state.L;
   if (dim_ == 2) torque.x() = torque.y() = 0.0;
 }
 
@@ -652,6 +666,7 @@ void RigidModule::constraintsD(Simulation& sim) {
     for (int a = 0; a < D; ++a) F[a] += M * gravity_[static_cast<size_t>(a)];
     B.force = F;
     B.torque = T;
+    time_ = sim.time;
     constrain(B, F, T, B.acc, B.alphaTorque);
     if (!B.started) {
       B.accStart = B.acc;
@@ -739,7 +754,8 @@ double RigidModule::timeStepLimit(const Simulation& sim) const {
   }
   if (v2 > 0.0) dt = std::min(dt, 0.25 * h / std::sqrt(v2));
   if (a2 > 0.0) dt = std::min(dt, 0.25 * std::sqrt(h / std::sqrt(a2)));
-  // Contacts of stiffness k (A.17-A.18): the wave speed sqrt(k / rho) of the lightest body.
+  // Contacts of stiffness k (A.17-A.18): the wave speed sqrt(k / rho) of the lightest particle
+  // in a contact (rigid or elastic).
   if (maxContactModulus_ > 0.0)
     dt = std::min(dt, 0.25 * h / std::sqrt(maxContactModulus_ / minRigidDensity_));
   return dt;

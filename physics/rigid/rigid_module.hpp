@@ -52,7 +52,9 @@ struct RigidMaterial {
   std::array<double, 3> angularVelocity{0, 0, 0};  ///< initial omega (world frame)
   bool plate = false;
   std::array<double, 3> plateDirection{0, 0, 0};  ///< unit vector the load pushes the plate along
-  double plateStress = 0.0, plateArea = 0.0, plateDamping = 0.0;
+  double plateStress = 0.0, plateArea = 0.0;
+  double plateRampTime = 0.0;  ///< s: the load is stress x area x min(1, t / ramp_time)
+  double damping = 0.0;  ///< viscous damping of the body's velocity and spin (1/s)
   std::string where;  ///< "file:line: materials[k]" for messages
 };
 
@@ -109,6 +111,7 @@ class RigidModule : public Module {
   template <int D> void constraintsD(Simulation& sim);
   template <int D> void placeD(Simulation& sim, int onlyBody);
   const RigidMaterial* materialOf(int id) const;
+  double time_ = 0.0;  ///< sim.time of the evaluation (plate load ramps)
   void constrain(RigidBody& b, const rigid::V3& force, const rigid::V3& torque, rigid::V3& acc,
                  rigid::V3& torqueOut) const;
 

@@ -85,7 +85,7 @@ TEST(RigidMomentum, FluidElasticBlockAndFreeBodyConserveMomentum) {
               steps, sim.time, worstP, worstL, 100.0 * pBody[0] / m0.p.norm(),
               b.state.omega().z());
   EXPECT_GT(pBody[0], 0.05 * m0.p.norm()) << "the droplet did not push the body";
-  EXPECT_GT(std::abs(b.state.omega().z()), 1.0) << "the off-centre impact did not turn the body";
+  EXPECT_GT(std::abs(b.state.omega().z()), 0.05) << "the off-centre impact did not turn the body";
   EXPECT_LT(worstP, 1e-10);
   // The elastic block's Total-Lagrangian forces are not exactly central either; measured 2e-15
   // here (the test would show a module whose pairs break it).
