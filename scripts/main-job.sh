@@ -7,17 +7,18 @@ cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
 bash scripts/build.sh
 BUILD_DIR=${BUILD_DIR:-build}
-# The main job is the drainage-with-damage sample once it exists; until then the best available.
-SCENE=${1:-}
-if [ -z "$SCENE" ]; then
-  # (capillary entry: gas displacing water from a slit above its entry pressure, i.e. drainage
-  # of one pore throat)
-  for candidate in samples/drainage_damage.yaml samples/fluid_capillary_entry.yaml samples/fluid_poiseuille.yaml; do
-    if [ -f "$candidate" ]; then SCENE=$candidate; break; fi
-  done
-fi
+# The main job: gas drainage with damage under confining stress in a 16^3 crop of the shipped
+# Ketton image (samples/drainage_ketton_3d.yaml, docs/drainage.md).
+SCENE=${1:-samples/drainage_ketton_3d.yaml}
+[ -f "$SCENE" ] || SCENE=""
 [ -n "$SCENE" ] || { echo "main-job: no sample scene found" >&2; exit 1; }
 OUT="runs/$(basename "$SCENE" .yaml)-$(date +%Y%m%d-%H%M%S)"
 echo "main-job: running $SCENE into $OUT"
 "$BUILD_DIR/poresph" run "$SCENE" --out "$OUT" --threads "$(nproc)"
-echo "main-job: results in $OUT (open $OUT/results.pvd in ParaView)"
+# Pictures: the standard views (3D phases, xy/yz cuts of damage, pressure and the largest
+# principal stress) and the drainage curves (porosity, saturation, damaged fraction vs time).
+if /usr/bin/python3 -c "import vtk, matplotlib" 2>/dev/null; then
+  /usr/bin/python3 scripts/render_views.py "$OUT" --out "$OUT/views" || echo "main-job: render_views failed" >&2
+  /usr/bin/python3 scripts/plot_timeseries.py "$OUT/timeseries.csv" --out "$OUT/views/drainage.png" || echo "main-job: plot_timeseries failed" >&2
+fi
+echo "main-job: results in $OUT (open $OUT/results.pvd in ParaView; pictures in $OUT/views)"
