@@ -113,7 +113,7 @@ inline PlateResult runPlate(const PlateSetup& s) {
     return solid.kineticEnergy(sim) + solid.elasticEnergy(sim) + w[2] + solid.damageDissipation(sim) -
            w[0] - w[1];
   };
-  if (s.law.empty() || s.maxSteps >= 0) {  // cost measurement (no damage field without a law)
+  if (s.maxSteps >= 0) {  // cost measurement
     const auto c0 = std::chrono::steady_clock::now();
     while (r.steps < s.maxSteps) {
       integrator->step(sim, dt);
@@ -154,6 +154,7 @@ inline PlateResult runPlate(const PlateSetup& s) {
   while (sim.time < ramp * (1 - 1e-9)) {
     integrator->step(sim, std::min(dt, ramp - sim.time));
     ++r.steps;
+    if (s.law.empty()) continue;  // elastic reference run (no damage field)
     const double u = s.uMax * sim.time / ramp;
     const double* D = sim.store.data(sim.store.real("damage"));
     bool left = false, right = false;
@@ -177,14 +178,16 @@ inline PlateResult runPlate(const PlateSetup& s) {
       if (!s.dump.empty()) dumpCsv(s.dump + "_cross.csv", sim);
     }
   }
-  const double* D = sim.store.data(sim.store.real("damage"));
-  for (Index i = first; i < sim.store.realCount(); ++i) r.dmax = std::max(r.dmax, D[i]);
-  measure(r.asymmetry, r.width);
+  if (!s.law.empty()) {
+    const double* D = sim.store.data(sim.store.real("damage"));
+    for (Index i = first; i < sim.store.realCount(); ++i) r.dmax = std::max(r.dmax, D[i]);
+    measure(r.asymmetry, r.width);
+  }
   const auto w = solid.work(sim);
   r.balance = std::abs(balance()) / std::max(std::abs(w[0]), 1e-300);
   r.dissipated = solid.damageDissipation(sim);
   r.clipped = solid.clippedDamageUpdates();
-  if (!s.dump.empty()) dumpCsv(s.dump + "_end.csv", sim);
+  if (!s.dump.empty() && !s.law.empty()) dumpCsv(s.dump + "_end.csv", sim);
   r.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
 }

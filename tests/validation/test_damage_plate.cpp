@@ -51,6 +51,10 @@ TEST(DamagePlate, CoarseTensionAT2CrackFromTheInclusionTopToBothSides) {
   s.uMax = 60e-6;
   s.rampCrossings = 24;
   s.clampBottom = true;
+  // No hourglass control: with hourglass 1 (E-stiff springs that the damage does not soften and
+  // whose energy is not in the stored energy) the crack needs ~2x the onset displacement to cross
+  // and the energy balance leaves 14-18 % of the work; without it 1.3 % (docs/damage.md).
+  s.hourglass = 0.0;
   const PlateResult r = runPlate(s);
   const double a = 0.05;
   std::printf("coarse plate: %ld particles, %ld steps, onset u = %.2f um at (%.1f, %.1f) mm, crossing "
@@ -66,13 +70,16 @@ TEST(DamagePlate, CoarseTensionAT2CrackFromTheInclusionTopToBothSides) {
   EXPECT_LT(r.asymmetry, 0.10);
   EXPECT_GT(r.widthCross, 0.5 * s.support);
   EXPECT_LT(r.widthCross, 2.0 * s.support);
-  const std::string res = "60 x 60 points (dx = 5 mm), 2h = 12.5 mm, TL + hourglass 1, damping 600/s";
+  EXPECT_LT(r.balance, 0.03) << "energy balance residual / work of the boundaries";
+  const std::string res = "60 x 60 points (dx = 5 mm), 2h = 12.5 mm, TL, no hourglass control, damping 600/s";
   test::recordValidation({"damage_plate_coarse_at2_tension", "imposed displacement at onset [um]",
                           1e6 * r.uOnset, 17.4, std::abs(1e6 * r.uOnset - 17.4) / 17.4, res, r.wall,
                           "recorded (thesis at 300 x 300, 2h = 5 mm)", "thesis Sec. 4.3.2.1, Fig. 4.14"});
   test::recordValidation({"damage_plate_coarse_at2_tension", "imposed displacement at full crossing [um]",
                           1e6 * r.uCross, 19.8, std::abs(1e6 * r.uCross - 19.8) / 19.8, res, r.wall,
                           "crossing > onset (thesis at 300 x 300, 2h = 5 mm)", "thesis Sec. 4.3.2.1, Fig. 4.14"});
+  test::recordValidation({"damage_plate_coarse_at2_tension", "energy balance residual / boundary work",
+                          r.balance, 0.0, r.balance, res, r.wall, "< 3 %", "Eqs. 4.25-4.26 with the boundary work"});
   test::recordValidation({"damage_plate_coarse_at2_tension", "left-right asymmetry of D", r.asymmetry, 0.0,
                           r.asymmetry, res, r.wall, "< 10 %", "thesis Sec. 4.3.2.1 (symmetric pattern)"});
   test::recordValidation({"damage_plate_coarse_at2_tension", "damaged width (D >= 0.5) at crossing [m]",
