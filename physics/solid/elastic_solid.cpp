@@ -277,6 +277,12 @@ void ElasticSolidModule::configure(Simulation& sim, const std::vector<const Mate
         waveVector_[static_cast<size_t>(a)] = k[static_cast<size_t>(a)];
       }
     }
+    if (section->has("gravity")) {
+      const auto g = section->reals("gravity", static_cast<size_t>(dim));
+      for (int a = 0; a < dim; ++a) gravity_[static_cast<size_t>(a)] = g[static_cast<size_t>(a)];
+      hasGravity_ = false;
+      for (int a = 0; a < dim; ++a) hasGravity_ = hasGravity_ || g[static_cast<size_t>(a)] != 0.0;
+    }
     section->finish();
   }
 
@@ -864,6 +870,33 @@ void ElasticSolidModule::constitutiveDim(Simulation& sim) {
 // ------------------------------------------------------------------------------------------------
 void ElasticSolidModule::forces(Simulation& sim) {
   dispatchDimension(sim.dimension(), [&](auto d) { forcesDim<decltype(d)::value>(sim); });
+  if (hasGravity_) applyGravity(sim);
+}
+
+// Body force (solid: {gravity: [..]}, the self-weight of a plate): a += g on every solid
+// particle; its power on the free particles is external work (solid_external_work). Clamped
+// and prescribed particles have their acceleration reset by constraints().
+void ElasticSolidModule::applyGravity(Simulation& sim) {
+  ParticleStore& s = sim.store;
+  const Index n = s.realCount();
+  const int d = sim.dimension();
+  const std::int32_t* mat = s.data(s.material());
+  const std::int32_t* motion = s.data(sim.motion);
+  const double* v = s.data(s.velocity());
+  const double* m = s.data(s.mass());
+  double* acc = s.data(sim.acceleration);
+  double* workRate = s.data(workRate_);
+  const std::array<double, 3> g = gravity_;
+#pragma omp parallel for schedule(static) if (n > 512)
+  for (Index i = 0; i < n; ++i) {
+    if (slotOf(mat[i]) < 0) continue;
+    double power = 0.0;
+    for (int a = 0; a < d; ++a) {
+      acc[i * d + a] += g[static_cast<size_t>(a)];
+      power += m[i] * v[i * d + a] * g[static_cast<size_t>(a)];
+    }
+    if (motion[i] == kMotionFree) workRate[i * 3 + 1] += power;
+  }
 }
 
 template <int D>

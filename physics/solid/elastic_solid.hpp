@@ -199,6 +199,9 @@ class ElasticSolidModule : public Module {
   /// periodic face use minimum-image separations.
   std::array<double, 3> period_{0, 0, 0};
   bool anyPartial_ = false;  ///< some boundary imposes only some components
+  std::array<double, 3> gravity_{0, 0, 0};  ///< solid: {gravity: [..]} [m/s^2]
+  bool hasGravity_ = false;
+  void applyGravity(Simulation& sim);
 };
 
 }  // namespace solid
