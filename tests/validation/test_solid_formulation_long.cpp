@@ -132,6 +132,14 @@ TEST(SolidFormulationLong, ArtificialViscosityCost) {
   // 1.919 MPa at a smaller displacement (early localisation on zero-energy modes); nothing:
   // 2.265 MPa. alpha = 41 is not quasi-static at this ramp: its viscous pairs slow the Poisson
   // contraction (a stiffer, nearer uniaxial-strain response, +5 %).
+  const std::string resol = "0.1 m AT-2 block, dx = 2.5 mm, 2h = 6.5 mm, roller pull to 2e-3 over 12 L/c, 0.9 x each step limit";
+  test::recordValidation({"solid_av_cost", "peak mean sigma_yy, hourglass 1 + damping vs alpha = 1", res[2].peak,
+                          res[1].peak, std::abs(res[2].peak - res[1].peak) / res[1].peak, resol, res[2].wall, "< 3 %",
+                          "the same block with artificial viscosity alpha = 1"});
+  test::recordValidation({"solid_av_cost", "steps of alpha = 41 / steps of hourglass 1 + damping",
+                          static_cast<double>(res[0].steps) / res[2].steps, 1.0 + 1.2 * 41,
+                          std::abs(static_cast<double>(res[0].steps) / res[2].steps - 50.2) / 50.2, resol, res[0].wall,
+                          "> 40", "Eq. 2.50 with c (1 + 1.2 alpha)"});
   EXPECT_NEAR(res[2].peak, res[1].peak, 0.03 * res[1].peak);  // hourglass + damping = alpha = 1
   EXPECT_GT(res[0].steps, 40 * res[2].steps);                  // the cost of alpha = 41
   EXPECT_GT(res[0].peak, res[2].peak);                          // its viscous overshoot
