@@ -40,8 +40,9 @@ TEST(DamagePlate, Explore) {
 
 // Coarse plate (dx = 5 mm, 2h = 12.5 mm, 60 x 60 points), AT-2 in tension, the bottom layer
 // clamped with the inclusion (see docs/damage.md: with the inclusion alone the crack wraps around
-// it and runs down to the bottom edge). Asserted: onset on the inclusion's top, a crack that
-// reaches both sides, left-right symmetry within 10 %, damaged width within a factor 2 of 2h.
+// it and runs down to the bottom edge). Asserted: onset on the upper half of the inclusion boundary, a crack that
+// reaches both sides, left-right symmetry within 10 %, damaged width within a factor 2 of 2h,
+// energy balance within 3 % of the boundary work.
 // The imposed displacements at onset and crossing are recorded beside the thesis' 17.4 / 19.8 um
 // (2h = 5 mm, 300 x 300 points: not comparable at this resolution, not asserted).
 TEST(DamagePlate, CoarseTensionAT2CrackFromTheInclusionTopToBothSides) {
@@ -63,9 +64,11 @@ TEST(DamagePlate, CoarseTensionAT2CrackFromTheInclusionTopToBothSides) {
               r.particles, r.steps, 1e6 * r.uOnset, 1e3 * r.xOnset, 1e3 * r.yOnset, 1e6 * r.uCross,
               r.asymmetry, 1e3 * r.widthCross, 1e3 * r.width, 1e3 * s.support, r.balance, r.dmax, r.wall);
   ASSERT_GT(r.uOnset, 0.0) << "no damage";
-  EXPECT_LT(std::abs(r.xOnset), a);
-  EXPECT_GT(r.yOnset, a);
-  EXPECT_LT(r.yOnset, a + 2 * s.support);
+  // on the upper half of the inclusion's boundary (within two supports of it)
+  const double rOnset = std::hypot(r.xOnset, r.yOnset);
+  EXPECT_GT(r.yOnset, 0.0);
+  EXPECT_GE(rOnset, a);
+  EXPECT_LT(rOnset, a + 2 * s.support);
   EXPECT_GT(r.uCross, r.uOnset) << "the crack did not reach both sides";
   EXPECT_LT(r.asymmetry, 0.10);
   EXPECT_GT(r.widthCross, 0.5 * s.support);
