@@ -727,6 +727,71 @@ void RigidModule::endOfStep(Simulation& sim, double dt) {
 }
 
 // ---------------------------------------------------------------------------------------------
+// checkpoints and rollback: the body states in body order (initialise() rebuilds the same
+// partition from the same scene before a checkpoint is read)
+// ---------------------------------------------------------------------------------------------
+namespace {
+constexpr size_t kStatePerBody = 35;
+void put(std::vector<double>& out, const V3& v) {
+  for (int a = 0; a < 3; ++a) out.push_back(v[a]);
+}
+V3 take(const double*& p) {
+  V3 v(p[0], p[1], p[2]);
+  p += 3;
+  return v;
+}
+}  // namespace
+
+ModuleState RigidModule::saveState() const {
+  std::vector<double> out;
+  out.reserve(bodies_.size() * kStatePerBody);
+  for (const RigidBody& b : bodies_) {
+    put(out, b.state.X);
+    put(out, b.state.V);
+    out.push_back(b.state.q.w());
+    out.push_back(b.state.q.x());
+    out.push_back(b.state.q.y());
+    out.push_back(b.state.q.z());
+    put(out, b.state.L);
+    put(out, b.X0);
+    put(out, b.force);
+    put(out, b.torque);
+    put(out, b.accStart);
+    put(out, b.alphaTorqueStart);
+    put(out, b.acc);
+    put(out, b.alphaTorque);
+    out.push_back(b.started ? 1.0 : 0.0);
+  }
+  return {{"bodies", out}};
+}
+
+void RigidModule::restoreState(const ModuleState& state) {
+  for (const auto& [name, values] : state) {
+    if (name != "bodies") continue;
+    if (values.size() != bodies_.size() * kStatePerBody)
+      throw InputError("rigid: the saved state holds " +
+                       std::to_string(values.size() / kStatePerBody) + " bodies, the scene has " +
+                       std::to_string(bodies_.size()));
+    const double* p = values.data();
+    for (RigidBody& b : bodies_) {
+      b.state.X = take(p);
+      b.state.V = take(p);
+      b.state.q = Eigen::Quaterniond(p[0], p[1], p[2], p[3]);
+      p += 4;
+      b.state.L = take(p);
+      b.X0 = take(p);
+      b.force = take(p);
+      b.torque = take(p);
+      b.accStart = take(p);
+      b.alphaTorqueStart = take(p);
+      b.acc = take(p);
+      b.alphaTorque = take(p);
+      b.started = *p++ != 0.0;
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
 // time step and diagnostics
 // ---------------------------------------------------------------------------------------------
 double RigidModule::timeStepLimit(const Simulation& sim) const {

@@ -92,6 +92,11 @@ class RigidModule : public Module {
   void interfaces(Simulation& sim) override;
   void constraints(Simulation& sim) override;
   void endOfStep(Simulation& sim, double dt) override;
+  /// Every body's Newton-Euler state (centre, velocity, quaternion, angular momentum, initial
+  /// centre, the forces of the last evaluation) for checkpoints and the health rollback: entry
+  /// "bodies", 35 numbers per body. The particles' `body` and `body_offset` are store fields.
+  ModuleState saveState() const override;
+  void restoreState(const ModuleState& state) override;
   double timeStepLimit(const Simulation& sim) const override;
   void diagnostics(const Simulation& sim,
                    std::vector<std::pair<std::string, double>>& columns) const override;
