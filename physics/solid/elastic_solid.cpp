@@ -277,6 +277,14 @@ void ElasticSolidModule::configure(Simulation& sim, const std::vector<const Mate
         waveVector_[static_cast<size_t>(a)] = k[static_cast<size_t>(a)];
       }
     }
+    if (section->has("smoothing_length")) {
+      // the solid's own h (issue 13: the damage regularisation 2h set apart from the fluid's)
+      ownH_ = section->real("smoothing_length", Range::positive());
+      if (formulation_ != Formulation::TotalLagrangian)
+        section->fail("smoothing_length", "a solid smoothing length of its own needs the "
+                                          "total_lagrangian formulation (the small-strain forms "
+                                          "use the run's neighbour lists)");
+    }
     if (section->has("gravity")) {
       const auto g = section->reals("gravity", static_cast<size_t>(dim));
       for (int a = 0; a < dim; ++a) gravity_[static_cast<size_t>(a)] = g[static_cast<size_t>(a)];
@@ -331,7 +339,12 @@ void ElasticSolidModule::configure(Simulation& sim, const std::vector<const Mate
 // ------------------------------------------------------------------------------------------------
 // initialise: reference state, boundary sets, reference family (TL)
 // ------------------------------------------------------------------------------------------------
+const Kernel& ElasticSolidModule::solidKernel(const Simulation& sim) const {
+  return ownH_ > 0.0 ? kernel_ : sim.kernel;
+}
+
 void ElasticSolidModule::initialise(Simulation& sim) {
+  if (ownH_ > 0.0) kernel_ = Kernel(sim.kernel.type(), sim.dimension(), ownH_);
   dispatchDimension(sim.dimension(), [&](auto d) { initialiseDim<decltype(d)::value>(sim); });
   initialised_ = true;
 }
@@ -473,10 +486,10 @@ void ElasticSolidModule::initialiseDim(Simulation& sim) {
           d += (B.mirrorPoint[static_cast<size_t>(a)] - X[i * D + a]) * B.mirrorNormal[static_cast<size_t>(a)];
         depth = std::max(depth, std::abs(d));
       }
-      if (depth < 2.0 * sim.kernel.support() - sim.spacing)
+      if (depth < 2.0 * solidKernel(sim).support() - sim.spacing)
         throw InputError(prefix(B.where) + "solid module: mirror boundary '" + B.label + "' is " + fmt(depth) +
                          " m deep; it must be at least twice the kernel support (" +
-                         fmt(2.0 * sim.kernel.support()) + " m) deep");
+                         fmt(2.0 * solidKernel(sim).support()) + " m) deep");
     }
   }
 
@@ -489,7 +502,7 @@ void ElasticSolidModule::initialiseDim(Simulation& sim) {
   // +-period, edges and corners included) join the search, so that a reference family crosses
   // the face; `origin` maps an image back to its particle. Families use minimum-image
   // separations, which needs a period of at least two supports where a family crosses a face.
-  const double support = sim.kernel.support();
+  const double support = solidKernel(sim).support();
   std::vector<Index> origin(static_cast<size_t>(nm));
   for (Index k = 0; k < nm; ++k) origin[static_cast<size_t>(k)] = k;
   period_ = {0.0, 0.0, 0.0};
@@ -533,7 +546,7 @@ void ElasticSolidModule::initialiseDim(Simulation& sim) {
   NeighbourList ref;
   if (nm > 0) search.build(Xm.data(), D, nm, nx, support, ref);
   auto volume = [&](Index i) { return m[i] / mats_[static_cast<size_t>(slotOf(mat[i]))].density; };
-  const Kernel& W = sim.kernel;
+  const Kernel& W = solidKernel(sim);
 
   // Corrected reference gradients g_ab = grad~_{a,0} W~_{ab,0} (mixed correction 2.63b, computed
   // by libcore/corrections on the reference positions of the solid particles).
@@ -697,7 +710,7 @@ void ElasticSolidModule::kinematics(Simulation& sim) {
     if (sim.dt > limit * (1.0 + 1e-12))
       throw InputError("solid module: time step dt = " + fmt(sim.dt) +
                        " s exceeds the elastic CFL limit h sqrt(rho/(lambda + 2 mu)) = " +
-                       fmt(limit) + " s (thesis Eq. 2.50, h = " + fmt(sim.kernel.h()) +
+                       fmt(limit) + " s (thesis Eq. 2.50, h = " + fmt(solidKernel(sim).h()) +
                        " m); reduce dt or let the run choose it (adaptive stepping)");
   }
   dispatchDimension(sim.dimension(), [&](auto d) { kinematicsDim<decltype(d)::value>(sim); });
@@ -769,7 +782,7 @@ void ElasticSolidModule::kinematicsDim(Simulation& sim) {
   double* rhoRate = s.data(densityRate_);
   const double* v = s.data(s.velocity());
   const NeighbourList& nl = sim.neighbours;
-  const Kernel& W = sim.kernel;
+  const Kernel& W = solidKernel(sim);
   const std::int32_t* phase = s.data(s.phase());
   auto isMine = [&](Index j) { return phase[j] == kPhaseSolid && slotOf(mat[j]) >= 0; };
   // filtered list (memory kept between steps): rows of every real particle, solid pairs only
@@ -917,7 +930,7 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
   double* wRate = s.data(energyRate_);
   double* workRate = s.data(workRate_);
   double* xsphRate = xsph_.valid() ? s.data(xsph_) : nullptr;
-  const Kernel& W = sim.kernel;
+  const Kernel& W = solidKernel(sim);
   const double h = W.h();
   const double t = sim.time;
   auto isMine = [&](Index j) { return phase[j] == kPhaseSolid && slotOf(mat[j]) >= 0; };
@@ -1138,7 +1151,7 @@ double ElasticSolidModule::elasticTimeStepLimit(const Simulation& sim) const {
   double c = 0.0;
   for (const auto& e : mats_) c = std::max(c, e.waveSpeed * (1.0 + 1.2 * e.avAlpha));
   if (!(c > 0.0)) return std::numeric_limits<double>::infinity();
-  return courant * sim.kernel.h() / c;
+  return courant * solidKernel(sim).h() / c;
 }
 
 double ElasticSolidModule::timeStepLimit(const Simulation& sim) const {
@@ -1160,7 +1173,7 @@ double ElasticSolidModule::timeStepLimit(const Simulation& sim) const {
     vmax = std::max(vmax, std::sqrt(v2));
     amax = std::max(amax, std::sqrt(a2));
   }
-  const double h = sim.kernel.h();
+  const double h = solidKernel(sim).h();
   double dt = elasticTimeStepLimit(sim);
   if (vmax > 0.0) dt = std::min(dt, 0.25 * h / vmax);             // 2.49a
   double beta = 0.0;

@@ -199,6 +199,12 @@ class ElasticSolidModule : public Module {
   /// periodic face use minimum-image separations.
   std::array<double, 3> period_{0, 0, 0};
   bool anyPartial_ = false;  ///< some boundary imposes only some components
+  /// solid: {smoothing_length: h} (TL only): the solid's own kernel (the run's kernel type with
+  /// this h) for its families, internal forces, hourglass, viscosity, XSPH and step limit; 0:
+  /// the run's kernel. Pairs with other phases keep the run's h.
+  double ownH_ = 0.0;
+  Kernel kernel_;
+  const Kernel& solidKernel(const Simulation& sim) const;
   std::array<double, 3> gravity_{0, 0, 0};  ///< solid: {gravity: [..]} [m/s^2]
   bool hasGravity_ = false;
   void applyGravity(Simulation& sim);
