@@ -2,7 +2,10 @@
 // the info summary, the A.18 pair term and the free-rotation step.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <vector>
 #include <string>
 
 #include "libcore/checkpoint.hpp"
@@ -146,4 +149,38 @@ TEST(Rigid, CheckpointRestartContinuesTheBodyExactly) {
   auto* rb = dynamic_cast<RigidModule*>(b.sim->module("rigid"));
   EXPECT_NEAR(ra->bodies()[0].state.omega().z(), rb->bodies()[0].state.omega().z(), 1e-12);
   EXPECT_GT(std::abs(ra->bodies()[0].state.q.z()), 0.05);  // it did turn
+}
+
+TEST(Rigid, ImageInclusionClustersBecomeBodies) {
+  // A 10 x 8 label image: 0 pore (none), 1 clay... here only the grains matter: label 2 forms
+  // three clusters (a 3 x 2 block, an L of 4 voxels, and a 2 x 2 block touching the L only
+  // diagonally, which is a separate body: face-connected clusters, as voxel_image's 6-/4-
+  // connectivity).
+  const int nx = 10, ny = 8;
+  std::vector<unsigned char> img(nx * ny, 0);
+  auto set = [&](int i, int j) { img[static_cast<size_t>(j * nx + i)] = 2; };
+  for (int i = 1; i <= 3; ++i)
+    for (int j = 1; j <= 2; ++j) set(i, j);            // block, 6 voxels
+  set(6, 1), set(6, 2), set(6, 3), set(7, 3);          // L, 4 voxels
+  set(8, 4), set(9, 4), set(8, 5), set(9, 5);          // diagonal neighbour of (7, 3)
+  const std::string raw = testing::TempDir() + "rigid_grains.raw";
+  {
+    std::FILE* f = std::fopen(raw.c_str(), "wb");
+    ASSERT_NE(f, nullptr);
+    std::fwrite(img.data(), 1, img.size(), f);
+    std::fclose(f);
+  }
+  const std::string text =
+      "dimension: 2\ndomain: {lo: [0, 0], hi: [1.0, 0.8]}\nspacing: 0.1\nend_time: 1\n"
+      "time_step: {dt: 1.0e-3}\noutput: {every_steps: 100}\nmaterials:\n"
+      "  - {name: grain, model: rigid, density: 2650}\ngeometry:\n"
+      "  - {shape: image, file: " + raw + ", size: [10, 8, 1], labels: {0: none, 2: grain}}\n";
+  Scene s = loadSceneText(text, "image_grains.yaml");
+  auto* rigid = dynamic_cast<RigidModule*>(s.sim->module("rigid"));
+  ASSERT_NE(rigid, nullptr);
+  ASSERT_EQ(rigid->bodies().size(), 3u);
+  std::vector<Index> counts;
+  for (const RigidBody& b : rigid->bodies()) counts.push_back(b.count);
+  std::sort(counts.begin(), counts.end());
+  EXPECT_EQ(counts, (std::vector<Index>{4, 4, 6}));
 }
