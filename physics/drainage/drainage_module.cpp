@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <sstream>
 
 #include "libcore/phases.hpp"
 #include "libcore/simulation.hpp"
@@ -260,6 +261,26 @@ void DrainageModule::diagnostics(const Simulation& sim,
     columns.emplace_back("drainage_solid_max_principal_stress",
                          vStressed > 0 ? maxPrincipal : nan);
   }
+}
+
+std::string DrainageModule::describe(const Simulation& sim) const {
+  const Material& inv = sim.materials[static_cast<size_t>(invading_)];
+  const Material& def = sim.materials[static_cast<size_t>(defending_)];
+  const double lo = sim.domain.lo[static_cast<size_t>(axis_)];
+  const double hi = sim.domain.hi[static_cast<size_t>(axis_)];
+  std::ostringstream o;
+  o.precision(4);
+  o << "drainage:     " << inv.name << " pushed into " << def.name << " along "
+    << "xyz"[axis_] << ", sample [" << sampleLo_ << ", " << sampleHi_ << "] m, reservoirs "
+    << (hi - lo) - (sampleHi_ - sampleLo_) << " m in all\n"
+    << "              dP = " << pressureDrop_ << " Pa: body force " << force_
+    << " m/s^2 on the " << inv.name << " in the reservoirs"
+    << (rampTime_ > 0.0 ? ", ramped over " + std::to_string(rampTime_) + " s" : "") << "\n";
+  if (inv.fluid.rho0 > 0.0 && def.fluid.viscosity > 0.0)
+    o << "              density ratio " << def.name << "/" << inv.name << " = "
+      << def.fluid.rho0 / inv.fluid.rho0 << ", viscosity ratio M = mu_" << inv.name << "/mu_"
+      << def.name << " = " << inv.fluid.viscosity / def.fluid.viscosity << " (Eq. 5.13)\n";
+  return o.str();
 }
 
 PORESPH_REGISTER_MODULE(DrainageModule, "drainage")

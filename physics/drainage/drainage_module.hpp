@@ -44,6 +44,8 @@ class DrainageModule : public Module {
   void restoreState(const ModuleState& state) override;
   void diagnostics(const Simulation& sim,
                    std::vector<std::pair<std::string, double>>& columns) const override;
+  /// `poresph info`: the set-up, the body force and the fluids' ratios (Eqs. 5.13, density).
+  std::string describe(const Simulation& sim) const override;
 
   /// Body force per unit mass on the invading fluid in the reservoirs (signed along the axis).
   double bodyForce() const { return force_; }
