@@ -86,7 +86,7 @@ int runImage(const ImageOptions& o) {
   spec.path = o.path;
   spec.format = o.format.empty() ? detectImageFormat(o.path) : o.format;
   if (!o.shape.empty()) {
-    if (spec.format != "raw") throw InputError("--shape: only a raw image takes it (a " + spec.format + " file gives its own)");
+    if (spec.format != "raw") throw InputError("--shape: only a raw image takes it ('" + o.path + "' is read as " + spec.format + ", which gives its own shape)");
     for (int a = 0; a < 3; ++a)
       spec.shape[static_cast<size_t>(a)] = static_cast<int>(wholeNumber(
           "--shape", o.shape[static_cast<size_t>(a)], 1, std::numeric_limits<int>::max(),

@@ -894,8 +894,9 @@ std::vector<std::string> imageFormats() { return {"raw", "mhd", "nhdr", "tiff", 
 
 std::string detectImageFormat(const std::string& path) {
   std::error_code ec;
-  if (fs::is_directory(path, ec)) return "tiff";
   std::string ext = lower(fs::path(path).extension().string());
+  // A folder is a TIFF stack, unless its name says another format (then that reader refuses it).
+  if (fs::is_directory(path, ec) && (ext.empty() || ext == ".tif" || ext == ".tiff")) return "tiff";
   if (ext == ".gz")
     throw InputError("image '" + path + "': compressed (.gz) images are not read; unpack it first (gunzip -k)");
   if (ext == ".raw" || ext == ".bin" || ext == ".dat") return "raw";
