@@ -328,3 +328,34 @@ TEST(ImageOps, SyntheticClayIsSeededAndHitsItsFractions) {
   o.porosity = 0.95;
   EXPECT_NE(message([&] { synthClay(o); }).find("sum below 1"), std::string::npos);
 }
+
+TEST(ImageOps, LabelledVtiHoldsLabelsClustersAndRadii) {
+  VoxelImage img(6, 5, 4, 1);
+  for (int z = 0; z < 4; ++z)
+    for (int x = 1; x < 5; ++x) img.at(x, 2, z) = 0;  // a pore channel
+  img.at(0, 0, 0) = 0;                                // an isolated pore voxel
+  Index count = 0;
+  const auto labels = labelPoreClusters(img, 0, &count, 6);
+  std::vector<float> radius(labels.size(), 0.5f);
+  const std::string path = scratch("labelled.vti");
+  writeLabelledVti(path, img, 1e-6, {{"cluster_6", &labels, nullptr}, {"pore_radius", nullptr, &radius}});
+  for (const std::string name : {"label", "cluster_6", "pore_radius"}) {
+    ImageFileSpec s;
+    s.path = path;
+    s.dataset = name;
+    const RawVolume v = readVolume(s);
+    ASSERT_EQ(v.n, (std::array<int, 3>{6, 5, 4})) << name;
+    EXPECT_NEAR(v.spacing[0], 1e-6, 1e-18);
+    for (Index i = 0; i < v.voxelCount(); ++i) {
+      const double want = name == "label" ? img.values()[static_cast<size_t>(i)]
+                          : name == "cluster_6" ? labels[static_cast<size_t>(i)] : 0.5;
+      ASSERT_EQ(v.value(i), want) << name << " voxel " << i;
+    }
+  }
+  EXPECT_EQ(count, 2);
+  // Without a name the three arrays are ambiguous: the message lists them.
+  ImageFileSpec s;
+  s.path = path;
+  EXPECT_NE(message([&] { readVolume(s); }).find("holds several arrays (label (cells), cluster_6 (cells), pore_radius (cells))"),
+            std::string::npos);
+}
