@@ -37,6 +37,7 @@ struct Entry {
   }
   explicit Entry(double forceRatio) {
     mu = env("FLUID_MU", mu);
+    thetaDeg = env("FLUID_THETA", thetaDeg);  // manual studies of other angles (issue 14)
     sim.spacing = dx;
     sim.kernel = Kernel(KernelType::QuinticSpline, 2, dx);
     const double t = 3 * dx;
@@ -91,6 +92,7 @@ struct EntryResult {
 
 EntryResult runEntry(double ratio, double tEnd) {
   test::Stopwatch clock;
+  ratio = Entry::env("FLUID_RATIO", ratio);  // manual studies of the threshold (issue 14)
   Entry e(ratio);
   const double T = Entry::env("FLUID_TEND", tEnd);
   EntryResult r;
