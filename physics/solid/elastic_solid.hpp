@@ -111,6 +111,14 @@ class ElasticSolidModule : public Module {
   void constraints(Simulation& sim) override;
   /// Damage commit D^{n+1} from the strain at x^{n+1} (only when a material has damage).
   void endOfStep(Simulation& sim, double dt) override;
+  /// The clipped-update counter is run state: checkpointed so a restart continues the count.
+  ModuleState saveState() const override {
+    return {{"damage_clipped_updates", {static_cast<double>(clippedUpdates_)}}};
+  }
+  void restoreState(const ModuleState& state) override {
+    for (const auto& [name, v] : state)
+      if (name == "damage_clipped_updates" && !v.empty()) clippedUpdates_ = static_cast<long>(v[0]);
+  }
   double timeStepLimit(const Simulation& sim) const override;
   /// solid-solid (the fluid-solid pairs belong to the coupling module).
   std::vector<PairClass> ownedPairs() const override {
