@@ -17,6 +17,8 @@
 // the coupling module applies minus that force to b.
 #include "libcore/artificial_viscosity.hpp"
 #include "libcore/fluid_properties.hpp"
+#include "libcore/kernel.hpp"
+#include "libcore/module.hpp"
 #include "libcore/types.hpp"
 
 namespace poresph {
@@ -104,5 +106,52 @@ FluidPairResult<D> fluidBoundaryPair(const Vec<D>& r, double F, const FluidPairS
   }
   return out;
 }
+
+/// The force of boundary particle b on fluid particle a, read from the store's arrays: m_a times
+/// the shared pair terms above (pressure, viscous times the fluid's per-pair normalisation
+/// factor, artificial viscosity), and the continuity contribution in `divergence`. One accessor
+/// for every module that owns a fluid-boundary pair class (coupling: fluid-solid, rigid:
+/// fluid-rigid). Both sides of a pair call it with the fluid particle first, so the two
+/// evaluations are identical and the pair forces cancel to round-off.
+template <int D>
+struct FluidBoundaryForce {
+  const double* x = nullptr;         ///< positions
+  const double* v = nullptr;         ///< velocities
+  const double* m = nullptr;         ///< masses
+  const double* rho = nullptr;       ///< densities
+  const double* p = nullptr;         ///< pressures (the boundary's extrapolated one for b)
+  const double* vNoSlip = nullptr;   ///< the boundary's no-slip velocity
+  const double* viscousFactor = nullptr;  ///< the fluid's normalisation (nullptr: 1)
+  const std::int32_t* material = nullptr;
+  const Material* materials = nullptr;
+  const Kernel* kernel = nullptr;
+  FluidPairSettings settings;
+  BoundaryModel model = BoundaryModel::Mirror;
+
+  Vec<D> operator()(Index a, Index b, double& divergence) const {
+    Vec<D> r;
+    for (int c = 0; c < D; ++c) r[c] = x[a * D + c] - x[b * D + c];
+    const double F = kernel->F(r.norm());
+    divergence = 0.0;
+    if (F == 0.0) return Vec<D>::Zero();
+    FluidPairSide<D> fa;
+    fa.m = m[a];
+    fa.rho = rho[a];
+    fa.p = p[a];
+    fa.props = &materials[static_cast<size_t>(material[a])].fluid;
+    BoundaryPairSide<D> sb;
+    sb.p = p[b];
+    sb.volume = m[b] / rho[b];
+    for (int c = 0; c < D; ++c) {
+      fa.v[c] = v[a * D + c];
+      sb.v[c] = v[b * D + c];
+      sb.vNoSlip[c] = vNoSlip[b * D + c];
+    }
+    const FluidPairResult<D> t = fluidBoundaryPair<D>(r, F, fa, sb, settings, model);
+    divergence = t.divergence;
+    const double factor = viscousFactor ? viscousFactor[a] : 1.0;
+    return m[a] * (t.pressure + factor * t.viscous + t.artificial);
+  }
+};
 
 }  // namespace poresph

@@ -56,33 +56,11 @@ void CouplingModule::interfacesD(Simulation& sim) {
   const BoundaryModel model = model_;
   const std::vector<Material>& mats = sim.materials;
 
-  // The force of solid particle b on fluid particle a (m_a times the shared pair terms). Both
+  // The force of solid particle b on fluid particle a (libcore FluidBoundaryForce). Both
   // sides call it with the fluid particle first, so the two evaluations are identical and the
   // forces cancel to round-off.
-  auto pairForce = [&](Index a, Index b, double& divergence) -> Vec<D> {
-    Vec<D> r;
-    for (int c = 0; c < D; ++c) r[c] = x[a * D + c] - x[b * D + c];
-    const double F = W.F(r.norm());
-    divergence = 0.0;
-    if (F == 0.0) return Vec<D>::Zero();
-    FluidPairSide<D> fa;
-    fa.m = m[a];
-    fa.rho = rho[a];
-    fa.p = p[a];
-    fa.props = &mats[static_cast<size_t>(mt[a])].fluid;
-    BoundaryPairSide<D> sb;
-    sb.p = p[b];
-    sb.volume = m[b] / rho[b];
-    for (int c = 0; c < D; ++c) {
-      fa.v[c] = v[a * D + c];
-      sb.v[c] = v[b * D + c];
-      sb.vNoSlip[c] = vw[b * D + c];
-    }
-    const FluidPairResult<D> t = fluidBoundaryPair<D>(r, F, fa, sb, settings, model);
-    divergence = t.divergence;
-    const double factor = visc ? visc[a] : 1.0;
-    return m[a] * (t.pressure + factor * t.viscous + t.artificial);
-  };
+  const FluidBoundaryForce<D> pairForce{x, v, m, rho, p, vw, visc,
+                                      mt, mats.data(), &W, settings, model};
   auto isFluid = [&](Index i) {
     return ph[i] == kPhaseFluid && mats[static_cast<size_t>(mt[i])].fluid.valid();
   };

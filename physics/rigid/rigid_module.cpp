@@ -481,30 +481,8 @@ void RigidModule::interfacesD(Simulation& sim) {
   };
   // Force of rigid particle b on fluid particle a (m_a times the shared pair terms); both sides
   // call it with the fluid particle first, so the two evaluations are identical.
-  auto fluidPair = [&](Index a, Index b, double& divergence) -> Vec<D> {
-    Vec<D> r;
-    for (int c = 0; c < D; ++c) r[c] = x[a * D + c] - x[b * D + c];
-    const double F = W.F(r.norm());
-    divergence = 0.0;
-    if (F == 0.0) return Vec<D>::Zero();
-    FluidPairSide<D> fa;
-    fa.m = m[a];
-    fa.rho = rho[a];
-    fa.p = p[a];
-    fa.props = &mats[static_cast<size_t>(mt[a])].fluid;
-    BoundaryPairSide<D> sb;
-    sb.p = p[b];
-    sb.volume = m[b] / rho[b];
-    for (int c = 0; c < D; ++c) {
-      fa.v[c] = v[a * D + c];
-      sb.v[c] = v[b * D + c];
-      sb.vNoSlip[c] = vw[b * D + c];
-    }
-    const FluidPairResult<D> t = fluidBoundaryPair<D>(r, F, fa, sb, settings, model);
-    divergence = t.divergence;
-    const double factor = visc ? visc[a] : 1.0;
-    return m[a] * (t.pressure + factor * t.viscous + t.artificial);
-  };
+  const FluidBoundaryForce<D> fluidPair{x, v, m, rho, p, vw, visc,
+                                      mt, mats.data(), &W, settings, model};
   // Contact modulus of a rigid particle i with neighbour j (A.17: the stiffer side).
   auto modulus = [&](Index i, Index j) {
     const RigidMaterial* ri = materialOf(mt[i]);
