@@ -152,6 +152,23 @@ struct FluidBoundaryForce {
     const double factor = viscousFactor ? viscousFactor[a] : 1.0;
     return m[a] * (t.pressure + factor * t.viscous + t.artificial);
   }
+
+  /// The force on fluid particle a from all its neighbours of phase `boundaryPhase`, and their
+  /// continuity sum (Eq. 5.1a: add rho_a times it to the density rate) in `divergence`.
+  template <class NeighbourList>
+  Vec<D> onFluid(Index a, const NeighbourList& nl, const std::int32_t* phase,
+                 std::int32_t boundaryPhase, double& divergence) const {
+    Vec<D> f = Vec<D>::Zero();
+    divergence = 0.0;
+    for (auto k = nl.offset[a]; k < nl.offset[a + 1]; ++k) {
+      const Index b = nl.index[static_cast<size_t>(k)];
+      if (phase[b] != boundaryPhase) continue;
+      double div = 0.0;
+      f += (*this)(a, b, div);
+      divergence += div;
+    }
+    return f;
+  }
 };
 
 }  // namespace poresph

@@ -70,15 +70,8 @@ void CouplingModule::interfacesD(Simulation& sim) {
   for (Index i = 0; i < n; ++i) {
     if (isFluid(i)) {
       if (mo[i] == kMotionFixed) continue;
-      Vec<D> f = Vec<D>::Zero();
       double divv = 0.0;
-      for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
-        const Index j = nl.index[static_cast<size_t>(k)];
-        if (ph[j] != kPhaseSolid) continue;
-        double div = 0.0;
-        f += pairForce(i, j, div);
-        divv += div;
-      }
+      const Vec<D> f = pairForce.onFluid(i, nl, ph, kPhaseSolid, divv);
       for (int c = 0; c < D; ++c) acc[i * D + c] += f[c] / m[i];
       if (drho) drho[i] += rho[i] * divv;  // Eq. 5.1a over the solid neighbours
     } else if (ph[i] == kPhaseSolid) {  // fixed ones too: their load is in the total force

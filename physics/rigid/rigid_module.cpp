@@ -501,15 +501,8 @@ void RigidModule::interfacesD(Simulation& sim) {
     if (phi == kPhaseWall) continue;
     if (phi == kPhaseFluid) {
       if (!fluidPairs_ || mo[i] == kMotionFixed || !isFluid(i)) continue;
-      Vec<D> f = Vec<D>::Zero();
       double divv = 0.0;
-      for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
-        const Index j = nl.index[static_cast<size_t>(k)];
-        if (ph[j] != kPhaseRigid) continue;
-        double div = 0.0;
-        f += fluidPair(i, j, div);
-        divv += div;
-      }
+      const Vec<D> f = fluidPair.onFluid(i, nl, ph, kPhaseRigid, divv);
       for (int c = 0; c < D; ++c) acc[i * D + c] += f[c] / m[i];
       if (drho) drho[i] += rho[i] * divv;  // Eq. 5.1a over the rigid neighbours
     } else if (phi == kPhaseSolid) {
