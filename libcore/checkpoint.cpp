@@ -5,6 +5,7 @@
 //                     hash of the scene's physics and geometry, compared on restart)
 //   /fields/<name>    one dataset per kFieldCheckpoint field: [particle_count, components],
 //                     IEEE float64 little endian or int32 little endian
+//   /integrator/<entry>  Integrator::saveState (rates and the scheme's state, by particle id)
 //   /modules/<module>/<entry>  Module::saveState of each module that has one: 1D float64
 #include "libcore/checkpoint.hpp"
 
@@ -80,6 +81,45 @@ herr_t collectName(hid_t, const char* name, const H5L_info_t*, void* out) {
   return 0;
 }
 
+/// One group of named 1D float64 datasets (a ModuleState) at `where`.
+void writeStateGroup(hid_t parent, const std::string& where, const ModuleState& state,
+                     const std::string& path) {
+  Handle group(H5Gcreate2(parent, where.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+               H5Gclose);
+  if (group < 0) fail(path, "cannot create group '" + where + "'");
+  for (const auto& [name, values] : state) {
+    const hsize_t n = values.size();
+    Handle space(H5Screate_simple(1, &n, nullptr), H5Sclose);
+    Handle set(H5Dcreate2(group, name.c_str(), H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT,
+                          H5P_DEFAULT),
+               H5Dclose);
+    if (set < 0 || (n > 0 && H5Dwrite(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT,
+                                      values.data()) < 0))
+      fail(path, "cannot write state '" + where + "/" + name + "'");
+  }
+}
+
+/// Every dataset of the group `where` (entries in name order).
+ModuleState readStateGroup(hid_t file, const std::string& where, const std::string& path) {
+  ModuleState state;
+  Handle group(H5Gopen2(file, where.c_str(), H5P_DEFAULT), H5Gclose);
+  if (group < 0) fail(path, "cannot open group '" + where + "'");
+  std::vector<std::string> names;
+  H5Literate(group, H5_INDEX_NAME, H5_ITER_NATIVE, nullptr, collectName, &names);
+  for (const auto& name : names) {
+    Handle set(H5Dopen2(group, name.c_str(), H5P_DEFAULT), H5Dclose);
+    Handle space(H5Dget_space(set), H5Sclose);
+    const hssize_t n = H5Sget_simple_extent_npoints(space);
+    if (set < 0 || n < 0) fail(path, "cannot read state '" + where + "/" + name + "'");
+    std::vector<double> values(static_cast<size_t>(n));
+    if (n > 0 &&
+        H5Dread(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()) < 0)
+      fail(path, "cannot read state '" + where + "/" + name + "'");
+    state.emplace_back(name, std::move(values));
+  }
+  return state;
+}
+
 void writeModuleStates(const Simulation& sim, hid_t file, const std::string& path) {
   bool any = false;
   for (const auto& m : sim.modules) any = any || !m->saveState().empty();
@@ -88,20 +128,7 @@ void writeModuleStates(const Simulation& sim, hid_t file, const std::string& pat
   if (modules < 0) fail(path, "cannot create group 'modules'");
   for (const auto& m : sim.modules) {
     const ModuleState state = m->saveState();
-    if (state.empty()) continue;
-    Handle group(H5Gcreate2(modules, m->name().c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-                 H5Gclose);
-    if (group < 0) fail(path, "cannot create group 'modules/" + m->name() + "'");
-    for (const auto& [name, values] : state) {
-      const hsize_t n = values.size();
-      Handle space(H5Screate_simple(1, &n, nullptr), H5Sclose);
-      Handle set(H5Dcreate2(group, name.c_str(), H5T_IEEE_F64LE, space, H5P_DEFAULT,
-                            H5P_DEFAULT, H5P_DEFAULT),
-                 H5Dclose);
-      if (set < 0 || (n > 0 && H5Dwrite(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT,
-                                        values.data()) < 0))
-        fail(path, "cannot write module state 'modules/" + m->name() + "/" + name + "'");
-    }
+    if (!state.empty()) writeStateGroup(modules, m->name(), state, path);
   }
 }
 
@@ -144,7 +171,7 @@ std::vector<ModuleState> readModuleStates(const Simulation& sim, hid_t file,
 }  // namespace
 
 void writeCheckpoint(const Simulation& sim, const std::string& path,
-                     const std::string& signature) {
+                     const std::string& signature, const ModuleState* integratorState) {
   QuietHdf5 quiet;
   const ParticleStore& s = sim.store;
   Handle file(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
@@ -196,11 +223,13 @@ void writeCheckpoint(const Simulation& sim, const std::string& path,
     if (rc < 0) fail(path, "cannot write field '" + spec.name + "'");
   }
   writeModuleStates(sim, file, path);
+  if (integratorState && !integratorState->empty())
+    writeStateGroup(file, "integrator", *integratorState, path);
   if (H5Fflush(file, H5F_SCOPE_GLOBAL) < 0) fail(path, "cannot flush the file");
 }
 
 void readCheckpoint(Simulation& sim, const std::string& path,
-                    const std::string& expectedSignature) {
+                    const std::string& expectedSignature, ModuleState* integratorState) {
   QuietHdf5 quiet;
   ParticleStore& s = sim.store;
   if (H5Fis_hdf5(path.c_str()) <= 0)
@@ -289,6 +318,11 @@ void readCheckpoint(Simulation& sim, const std::string& path,
   }
 
   const std::vector<ModuleState> moduleStates = readModuleStates(sim, file, path);
+  if (integratorState) {
+    integratorState->clear();
+    if (H5Lexists(file, "integrator", H5P_DEFAULT) > 0)
+      *integratorState = readStateGroup(file, "integrator", path);
+  }
 
   // ---- restore ----
   s.clearGhosts();

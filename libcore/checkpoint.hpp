@@ -4,6 +4,8 @@
 // dt, dimension, particle count, and the domain (lo, hi, periodic).
 #include <string>
 
+#include "libcore/module.hpp"
+
 namespace poresph {
 
 class Simulation;
@@ -12,8 +14,11 @@ class Simulation;
 /// cannot be created.
 /// `signature` (optional) identifies the scene (runner.cpp: sceneSignature) and is compared by
 /// readCheckpoint.
+/// `integratorState` (optional, Integrator::saveState) is written under /integrator/<entry>: a
+/// restart that puts it back continues the run to round-off instead of re-priming the scheme.
 void writeCheckpoint(const Simulation& sim, const std::string& path,
-                     const std::string& signature = "");
+                     const std::string& signature = "",
+                     const ModuleState* integratorState = nullptr);
 
 /// Restores a checkpoint into `sim`, whose modules were configured as for the run that wrote it
 /// (the same checkpoint fields registered). Replaces the particles (ghosts cleared), time, step,
@@ -22,7 +27,9 @@ void writeCheckpoint(const Simulation& sim, const std::string& path,
 /// With `expectedSignature` (what a run passes: the simulation was just built from its scene)
 /// it also refuses a checkpoint whose particle count differs from the simulation's or whose
 /// scene signature differs.
+/// With `integratorState` it also returns the file's integrator state (empty if it has none).
 void readCheckpoint(Simulation& sim, const std::string& path,
-                    const std::string& expectedSignature = "");
+                    const std::string& expectedSignature = "",
+                    ModuleState* integratorState = nullptr);
 
 }  // namespace poresph

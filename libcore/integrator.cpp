@@ -88,6 +88,112 @@ void Integrator::finishStep(Simulation& sim, double dt) {
   lastCount_ = sim.store.realCount();
 }
 
+ModuleState packStoreFields(const ParticleStore& s, bool checkpointed) {
+  const Index n = s.realCount();
+  ModuleState state;
+  std::vector<double> ids(static_cast<size_t>(n));
+  const std::int32_t* id = s.data(s.id());
+  for (Index i = 0; i < n; ++i) ids[static_cast<size_t>(i)] = id[i];
+  state.emplace_back("id", std::move(ids));
+  for (size_t k = 0; k < s.fields().size(); ++k) {
+    const FieldSpec& spec = s.fields()[k];
+    if (((spec.flags & kFieldCheckpoint) != 0) != checkpointed) continue;
+    const int f = static_cast<int>(k);
+    const size_t count = static_cast<size_t>(n) * static_cast<size_t>(s.components(f));
+    std::vector<double> values(count);
+    if (spec.type == FieldType::Real) {
+      const double* v = s.data(RealField{f});
+      std::copy(v, v + count, values.begin());
+    } else {
+      const std::int32_t* v = s.data(IntField{f});
+      std::copy(v, v + count, values.begin());  // int32 is exact in a double
+    }
+    state.emplace_back("field:" + spec.name, std::move(values));
+  }
+  return state;
+}
+
+void unpackStoreFields(ParticleStore& s, const ModuleState& state) {
+  const Index n = s.realCount();
+  const std::vector<double>* ids = nullptr;
+  for (const auto& [key, values] : state)
+    if (key == "id") ids = &values;
+  if (!ids) throw std::invalid_argument("store state: entry 'id' is missing");
+  if (static_cast<Index>(ids->size()) != n)
+    throw std::invalid_argument("store state: " + std::to_string(ids->size()) +
+                                " particles saved, the simulation has " + std::to_string(n));
+  // Saved row k belongs to the particle with id ids[k]: map it to that particle's row now.
+  std::int32_t maxId = 0;
+  const std::int32_t* id = s.data(s.id());
+  for (Index i = 0; i < n; ++i) maxId = std::max(maxId, id[i]);
+  std::vector<Index> rowOfId(static_cast<size_t>(maxId) + 1, -1);
+  for (Index i = 0; i < n; ++i) rowOfId[static_cast<size_t>(id[i])] = i;
+  std::vector<Index> rowOf(static_cast<size_t>(n));
+  for (Index k = 0; k < n; ++k) {
+    const double v = (*ids)[static_cast<size_t>(k)];
+    const Index row = v >= 0 && v <= maxId ? rowOfId[static_cast<size_t>(v)] : -1;
+    if (row < 0)
+      throw std::invalid_argument("store state: particle id " + std::to_string(v) +
+                                  " is not in the simulation");
+    rowOf[static_cast<size_t>(k)] = row;
+  }
+  for (const auto& [key, values] : state) {
+    if (key.rfind("field:", 0) != 0) continue;
+    const std::string name = key.substr(6);
+    int f = -1;
+    for (size_t k = 0; k < s.fields().size(); ++k)
+      if (s.fields()[k].name == name) f = static_cast<int>(k);
+    if (f < 0)
+      throw std::invalid_argument("store state: field '" + name +
+                                  "' is not registered in this simulation");
+    const int c = s.components(f);
+    if (static_cast<Index>(values.size()) != n * c)
+      throw std::invalid_argument("store state: field '" + name + "' has " +
+                                  std::to_string(values.size()) + " values, " +
+                                  std::to_string(n * c) + " expected");
+    const bool real = s.spec(f).type == FieldType::Real;
+    double* outR = real ? s.data(RealField{f}) : nullptr;
+    std::int32_t* outI = real ? nullptr : s.data(IntField{f});
+    for (Index k = 0; k < n; ++k)
+      for (int q = 0; q < c; ++q) {
+        const double v = values[static_cast<size_t>(k * c + q)];
+        const Index at = rowOf[static_cast<size_t>(k)] * c + q;
+        if (real)
+          outR[at] = v;
+        else
+          outI[at] = static_cast<std::int32_t>(v);
+      }
+  }
+}
+
+ModuleState Integrator::saveState(const Simulation& sim) const {
+  const ParticleStore& s = sim.store;
+  const bool current = primed_ && bound_ == &sim && lastStep_ == sim.step &&
+                       lastTime_ == sim.time && lastCount_ == s.realCount();
+  if (!current) return {};
+  ModuleState state = packStoreFields(s, false);
+  state.emplace_back("numbers", schemeNumbers());
+  return state;
+}
+
+void Integrator::restoreState(Simulation& sim, const ModuleState& state) {
+  bindScratch(sim);
+  unpackStoreFields(sim.store, state);
+  std::vector<double> numbers;
+  bool found = false;
+  for (const auto& [key, values] : state)
+    if (key == "numbers") {
+      numbers = values;
+      found = true;
+    }
+  if (!found) throw std::invalid_argument("integrator state: entry 'numbers' is missing");
+  setSchemeNumbers(numbers);
+  primed_ = true;
+  lastStep_ = sim.step;
+  lastTime_ = sim.time;
+  lastCount_ = sim.store.realCount();
+}
+
 namespace {
 
 // ---------------------------------------------------------------------------------------------
@@ -246,6 +352,15 @@ class LeapfrogIntegrator final : public Integrator {
     correctFields(sim, scratchF_, dt);
     finishStep(sim, dt);
     dtPrev_ = dt;
+  }
+
+ protected:
+  std::vector<double> schemeNumbers() const override { return {dtPrev_}; }
+  void setSchemeNumbers(const std::vector<double>& v) override {
+    if (v.size() != 1)
+      throw std::invalid_argument("integrator state: leapfrog expects 1 number (dt_n), got " +
+                                  std::to_string(v.size()));
+    dtPrev_ = v[0];
   }
 
  private:

@@ -26,11 +26,19 @@
 #include <string>
 #include <vector>
 
+#include "libcore/module.hpp"
 #include "libcore/particle_store.hpp"
 
 namespace poresph {
 
 class Simulation;
+
+/// The real particles' fields flagged kFieldCheckpoint (checkpointed = true) or not (false),
+/// real and int, as "field:<name>" entries (rows in store order) plus an "id" entry.
+ModuleState packStoreFields(const ParticleStore& s, bool checkpointed);
+/// Writes such entries back, row by particle id (the store may have been reordered since).
+/// Throws std::invalid_argument naming the entry when it does not fit the store.
+void unpackStoreFields(ParticleStore& s, const ModuleState& state);
 
 class Integrator {
  public:
@@ -45,6 +53,20 @@ class Integrator {
   /// Forgets the rates held in the store: the next step() re-evaluates them first (call after
   /// changing the particles by hand; step() also detects step/time/particle-count changes).
   void invalidate() { primed_ = false; }
+  /// Restart state (docs/output.md, "Checkpoints"): what the next step() takes over from the
+  /// last one and a checkpoint's fields do not hold - every store field not flagged
+  /// kFieldCheckpoint (the rates, evaluated at the step's prediction and not at the
+  /// synchronised state a restart would re-evaluate; lagged quantities such as the previous
+  /// acceleration; the scheme's scratch, e.g. leapfrog's v^{n+1/2} of Eq. 2.48) and the
+  /// scheme's numbers (leapfrog: dt_n). Empty when the store does not hold the rates of the
+  /// current state (not primed).
+  ModuleState saveState(const Simulation& sim) const;
+  /// Puts a state back into `sim` (the same particles, in any order): saveState()'s entries
+  /// plus, on a restart, the checkpoint fields as read (packStoreFields(s, true) taken before
+  /// the restart's evaluation, which rewrites some of them), and marks the rates current, so
+  /// the next step() continues as the uninterrupted run would have, to round-off.
+  /// Throws std::invalid_argument naming the entry when the state does not fit `sim`.
+  void restoreState(Simulation& sim, const ModuleState& state);
 
  protected:
   /// Makes sure the store holds the rates of the current state (evaluates them if not).
@@ -55,6 +77,9 @@ class Integrator {
   void finishStep(Simulation& sim, double dt);
   /// Registers (once per simulation and integrated-field list) the scratch fields.
   void bindScratch(Simulation& sim);
+  /// The scheme's own cross-step numbers (saveState/restoreState; its fields are store fields).
+  virtual std::vector<double> schemeNumbers() const { return {}; }
+  virtual void setSchemeNumbers(const std::vector<double>&) {}
 
   long long evaluations_ = 0;
   bool primed_ = false;

@@ -9,6 +9,8 @@
 #include <iomanip>
 #include <ostream>
 #include <sstream>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "libcore/checkpoint.hpp"
@@ -156,9 +158,9 @@ std::string sceneSignature(const Scene& scene) {
   return fnv1a(e.c_str());
 }
 
-void restoreCheckpoint(Scene& scene, const std::string& path) {
+void restoreCheckpoint(Scene& scene, const std::string& path, ModuleState* integratorState) {
   Simulation& sim = *scene.sim;
-  readCheckpoint(sim, path, sceneSignature(scene));
+  readCheckpoint(sim, path, sceneSignature(scene), integratorState);
   if (scene.finished())
     throw InputError(path + ": the checkpoint is at time " + std::to_string(sim.time) +
                      " s, step " + std::to_string(sim.step) + ", which is not before the end of " +
@@ -189,11 +191,28 @@ RunResult runScene(Scene& scene, const RunOptions& options) {
   std::unique_ptr<Integrator> integrator = makeIntegrator(scene.integrator);
   const std::string signature = sceneSignature(scene);  // written into every checkpoint
   if (!options.restartFrom.empty()) {
-    restoreCheckpoint(scene, options.restartFrom);
-    // The derived fields (pressure, stress, colour...) are not in the checkpoint: evaluate them
-    // for the restored state so that the first row and snapshot equal the interrupted run's.
+    ModuleState integratorState;
+    restoreCheckpoint(scene, options.restartFrom, &integratorState);
+    // The evaluation builds the neighbour lists and ghosts and, for a checkpoint without an
+    // integrator state (written after a health rollback), the derived fields (pressure, stress,
+    // colour...) and rates; the next step then re-primes the scheme. With the state, every
+    // field is put back as the interrupted run left it (the rates it evaluated at its last
+    // step's prediction, lagged fields, leapfrog's v^{n+1/2}, and the checkpoint fields the
+    // evaluation rewrites), so the run continues to round-off.
+    ModuleState asRead;
+    if (!integratorState.empty()) asRead = packStoreFields(sim.store, true);
     sim.evaluateRates();
-    integrator->invalidate();
+    if (integratorState.empty()) {
+      integrator->invalidate();
+    } else {
+      integratorState.insert(integratorState.end(), asRead.begin() + 1, asRead.end());  // no 2nd id
+      try {
+        integrator->restoreState(sim, integratorState);
+      } catch (const std::invalid_argument& e) {
+        throw InputError(options.restartFrom + ": " + e.what() +
+                         " (a checkpoint of another scene or version?)");
+      }
+    }
     if (log)
       *log << "poresph: restarted from " << options.restartFrom << " at step " << sim.step
            << ", time " << sim.time << " s\n";
@@ -299,7 +318,8 @@ RunResult runScene(Scene& scene, const RunOptions& options) {
 
   if (result.status != RunStatus::Failed) {
     if (lastOutputStep != sim.step) writeOutput();
-    writeCheckpoint(sim, checkpointPath, signature);
+    const ModuleState integratorState = integrator->saveState(sim);
+    writeCheckpoint(sim, checkpointPath, signature, &integratorState);
     result.checkpoint = checkpointPath;
     if (log && result.status == RunStatus::Interrupted)
       *log << "\nporesph: stopped by signal " << result.signal << " after step " << sim.step

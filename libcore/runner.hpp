@@ -55,7 +55,8 @@ std::string sceneSignature(const Scene& scene);
 /// another scene (particle count, scene signature), a missing or unreadable file, and one whose
 /// time is not before the scene's end. runScene() calls it; `poresph run --restart` calls it
 /// before it touches the output directory.
-void restoreCheckpoint(Scene& scene, const std::string& path);
+void restoreCheckpoint(Scene& scene, const std::string& path,
+                       ModuleState* integratorState = nullptr);
 
 /// Throws InputError (naming `origin`, the check, the particle) when the scene's current state
 /// already fails a health check: a run from it would stop at its first step. runScene() calls
