@@ -133,23 +133,37 @@ void DrainageModule::forces(Simulation& sim) {
 }
 
 bool DrainageModule::percolates(const Simulation& sim) const {
+  const std::int32_t* mt = sim.store.data(sim.store.material());
+  return spans(sim, [&](Index i) { return mt[i] == invading_; });
+}
+
+bool DrainageModule::flowPathSpans(const Simulation& sim) const {
+  const ParticleStore& st = sim.store;
+  const std::int32_t* ph = st.data(st.phase());
+  const double* dmg = st.has("damage") ? st.data(st.real("damage")) : nullptr;
+  return spans(sim, [&](Index i) {
+    return ph[i] == kPhaseFluid || (dmg && ph[i] == kPhaseSolid && dmg[i] > 0.5);
+  });
+}
+
+template <class Member>
+bool DrainageModule::spans(const Simulation& sim, Member member) const {
   const ParticleStore& st = sim.store;
   const Index n = st.realCount();
   const int d = sim.dimension();
   const double* x = st.data(st.position());
-  const std::int32_t* mt = st.data(st.material());
   const auto& nl = sim.neighbours;
   if (static_cast<Index>(nl.offset.size()) < n + 1) return false;  // no list built yet
   parent_.resize(static_cast<size_t>(n));
   std::iota(parent_.begin(), parent_.end(), std::int64_t{0});
   const double link2 = std::pow(linkDistance_ * sim.spacing, 2);
-  // Serial union-find over the invading particles' short links (real pairs only: a periodic
-  // image would join the two reservoirs through the periodic face, not through the sample).
+  // Serial union-find over the members' short links (real pairs only: a periodic image would
+  // join the two reservoirs through the periodic face, not through the sample).
   for (Index i = 0; i < n; ++i) {
-    if (mt[i] != invading_) continue;
+    if (!member(i)) continue;
     for (auto q = nl.offset[i]; q < nl.offset[i + 1]; ++q) {
       const Index j = nl.index[static_cast<size_t>(q)];
-      if (j >= n || j <= i || mt[j] != invading_) continue;
+      if (j >= n || j <= i || !member(j)) continue;
       double r2 = 0.0;
       for (int c = 0; c < d; ++c) r2 += std::pow(x[i * d + c] - x[j * d + c], 2);
       if (r2 > link2) continue;
@@ -163,27 +177,29 @@ bool DrainageModule::percolates(const Simulation& sim) const {
   const double lowFace = sampleLo_ + sim.spacing, highFace = sampleHi_ - sim.spacing;
   std::vector<char> low(static_cast<size_t>(n), 0);
   for (Index i = 0; i < n; ++i)
-    if (mt[i] == invading_ && x[i * d + axis_] < lowFace)
-      low[static_cast<size_t>(find(parent_, i))] = 1;
+    if (member(i) && x[i * d + axis_] < lowFace) low[static_cast<size_t>(find(parent_, i))] = 1;
   for (Index i = 0; i < n; ++i)
-    if (mt[i] == invading_ && x[i * d + axis_] > highFace &&
+    if (member(i) && x[i * d + axis_] > highFace &&
         low[static_cast<size_t>(find(parent_, i))])
       return true;
   return false;
 }
 
 void DrainageModule::endOfStep(Simulation& sim, double) {
-  if (percolationTime_ >= 0.0 || sim.step % checkEvery_ != 0) return;
-  if (percolates(sim)) percolationTime_ = sim.time;
+  if (sim.step % checkEvery_ != 0) return;
+  if (percolationTime_ < 0.0 && percolates(sim)) percolationTime_ = sim.time;
+  if (flowPathTime_ < 0.0 && flowPathSpans(sim)) flowPathTime_ = sim.time;
 }
 
 ModuleState DrainageModule::saveState() const {
-  return {{"percolation_time", {percolationTime_}}};
+  return {{"percolation_time", {percolationTime_}}, {"flow_path_time", {flowPathTime_}}};
 }
 
 void DrainageModule::restoreState(const ModuleState& state) {
-  for (const auto& [name, v] : state)
+  for (const auto& [name, v] : state) {
     if (name == "percolation_time" && !v.empty()) percolationTime_ = v[0];
+    if (name == "flow_path_time" && !v.empty()) flowPathTime_ = v[0];
+  }
 }
 
 void DrainageModule::diagnostics(const Simulation& sim,
@@ -252,6 +268,9 @@ void DrainageModule::diagnostics(const Simulation& sim,
   if (percolationTime_ < 0.0 && percolates(sim)) percolationTime_ = sim.time;
   columns.emplace_back("drainage_percolated", percolationTime_ >= 0.0 ? 1.0 : 0.0);
   columns.emplace_back("drainage_percolation_time", percolationTime_);
+  if (flowPathTime_ < 0.0 && flowPathSpans(sim)) flowPathTime_ = sim.time;
+  columns.emplace_back("drainage_flow_path", flowPathTime_ >= 0.0 ? 1.0 : 0.0);
+  columns.emplace_back("drainage_flow_path_time", flowPathTime_);
   if (dmg) {
     columns.emplace_back("drainage_damaged_fraction", vSolid > 0 ? vDamaged / vSolid : nan);
     columns.emplace_back("drainage_max_damage", maxDamage);

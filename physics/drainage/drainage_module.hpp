@@ -19,11 +19,16 @@
 //                              `link_distance` x dx, periodic images not used) reaches within
 //                              dx of both faces of the slab (gas breakthrough), else 0;
 //                              drainage_percolation_time (-1 before)
+//   drainage_flow_path         1 once the pore space plus the damaged solid (D > 0.5) spans the
+//                              slab the same way (fluid of either phase or damaged solid
+//                              particles, same links and faces): a path that damage opened
+//                              between pores that were isolated (Sec. 5.5); 1 from the start
+//                              when the pores already percolate; drainage_flow_path_time
 //   drainage_damaged_fraction  solid volume with D > 0.5 / solid volume, drainage_max_damage
 //                              (only when a `damage` field exists)
 //   drainage_solid_mean_stress mean of tr(sigma)/D over the solid (volume weighted) and
 //   drainage_solid_max_principal_stress (only when a `stress` field exists)
-// The percolation time is module state (checkpointed, Module::saveState).
+// The percolation and flow-path times are module state (checkpointed, Module::saveState).
 #include <string>
 #include <vector>
 
@@ -51,6 +56,8 @@ class DrainageModule : public Module {
   double bodyForce() const { return force_; }
   /// True when a cluster of invading particles spans the slab face to face (evaluated now).
   bool percolates(const Simulation& sim) const;
+  /// Pore space plus damaged solid spans the slab (drainage_flow_path).
+  bool flowPathSpans(const Simulation& sim) const;
   double percolationTime() const { return percolationTime_; }
 
  private:
@@ -61,6 +68,10 @@ class DrainageModule : public Module {
   std::vector<char> inclusion_;           // by material id: a rigid inclusion of the sample
   long checkEvery_ = 10;
   mutable double percolationTime_ = -1.0;  // first time seen (endOfStep or an output row)
+  mutable double flowPathTime_ = -1.0;     // likewise for drainage_flow_path
+  /// One cluster of `member` particles (short real links) within dx of both slab faces.
+  template <class Member>
+  bool spans(const Simulation& sim, Member member) const;
   std::string where_;
   mutable std::vector<std::int64_t> parent_;  // union-find scratch (sized at initialise)
 };
