@@ -60,7 +60,7 @@ void writeFile(const std::string& path, const std::string& text) {
   if (!f) throw InputError(path + ": cannot write the file");
 }
 
-int commandInfo(const std::string& scenePath) {
+int commandInfo(const std::string& scenePath, long estimateSteps) {
   // Two phases: read, configure and count (nothing per particle allocated), print the memory
   // estimate, and only then build the particles, if they fit.
   SceneOptions opt;
@@ -79,6 +79,12 @@ int commandInfo(const std::string& scenePath) {
   // Build the neighbour lists once so that the summary shows measured counts.
   scene.sim->updateNeighbours();
   std::cout << describeScene(scene) << "threads:      " << omp_get_max_threads() << "\n";
+  if (estimateSteps > 0) {
+    // Each module's stable step and the run time from a few timed steps (libcore/runner.hpp).
+    std::cout << std::flush;
+    initialiseScene(scene);
+    std::cout << describeEstimate(scene, estimateRun(scene, estimateSteps, 30.0));
+  }
   return 0;
 }
 
@@ -220,6 +226,9 @@ int main(int argc, char** argv) {
   CLI::App* info = app.add_subcommand("info", "Describe a scene without running it");
   info->add_option("scene", scenePath, "Scene file (YAML)")->required();
   info->add_option("--threads,-t", threadsText, "OpenMP threads, 1 .. 4 x cores");
+  std::string estimateText = "10";
+  info->add_option("--estimate-steps", estimateText,
+                   "steps to time for the run-time estimate (at most 30 s; 0: none)");
 
   // Commands in their own files (app/commands.hpp); their values are checked when they run.
   const std::vector<app::Command> commands = {app::addImageCommand(app), app::addSynthCommand(app),
@@ -240,7 +249,9 @@ int main(int argc, char** argv) {
 
   try {
     if (!threadsText.empty()) setThreads(threadsOption(threadsText));
-    if (info->parsed()) return commandInfo(scenePath);
+    if (info->parsed())
+      return commandInfo(scenePath, wholeNumberOption("--estimate-steps", estimateText, 0, 1000000,
+                                                      "a whole number of steps from 0 to 1000000"));
     for (const auto& c : commands)
       if (c.sub->parsed()) return c.run();
     if (run->parsed()) return commandRun(scenePath, outDir, force, restart, keepGoing);

@@ -1,5 +1,7 @@
 #include "libcore/runner.hpp"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -178,6 +180,66 @@ void checkInitialHealth(const Scene& scene, const std::string& origin) {
     throw InputError(origin + ": the initial state fails a " +
                      HealthMonitor::describe(sim, issues[0]) + " (the scene key health." +
                      issues[0].check + " sets the bound; docs/reliability.md)");
+}
+
+RunEstimate estimateRun(Scene& scene, long steps, double maxSeconds) {
+  using Clock = std::chrono::steady_clock;
+  Simulation& sim = *scene.sim;
+  RunEstimate e;
+  for (const auto& m : sim.modules) e.moduleLimits.emplace_back(m->name(), m->timeStepLimit(sim));
+  e.cflLimit = cflTimeStep(sim, sim.kernel.h());
+  std::unique_ptr<Integrator> integrator = makeIntegrator(scene.integrator);
+  const double t0 = sim.time;
+  try {
+    e.dt = scene.nextTimeStep();
+    if (scene.finished() || steps <= 0) return e;
+    integrator->step(sim, scene.nextTimeStep());  // untimed: it also primes the rates
+    const auto start = Clock::now();
+    const double tStart = sim.time;
+    double wall = 0.0;
+    while (e.stepsTimed < steps && wall < maxSeconds && !scene.finished()) {
+      integrator->step(sim, scene.nextTimeStep());
+      sim.checkFinite();
+      ++e.stepsTimed;
+      wall = std::chrono::duration<double>(Clock::now() - start).count();
+    }
+    if (e.stepsTimed > 0) {
+      e.secondsPerStep = wall / static_cast<double>(e.stepsTimed);
+      const double meanDt = (sim.time - tStart) / static_cast<double>(e.stepsTimed);
+      e.stepsToEnd = meanDt > 0.0 ? (scene.endTime - t0) / meanDt : 0.0;
+      if (scene.maxSteps > 0) e.stepsToEnd = std::min(e.stepsToEnd, static_cast<double>(scene.maxSteps));
+      e.secondsToEnd = e.stepsToEnd * e.secondsPerStep;
+    }
+  } catch (const NumericalError& err) {
+    e.failure = err.what();
+  }
+  return e;
+}
+
+std::string describeEstimate(const Scene& scene, const RunEstimate& e) {
+  std::ostringstream o;
+  o << std::setprecision(4);
+  o << "stable steps: ";
+  bool first = true;
+  for (const auto& [name, limit] : e.moduleLimits) {
+    if (!std::isfinite(limit)) continue;
+    o << (first ? "" : ", ") << name << " " << limit << " s";
+    first = false;
+  }
+  o << (first ? "" : ", ") << "velocity/acceleration CFL " << e.cflLimit << " s\n";
+  o << "step now:     " << e.dt << " s";
+  if (scene.timeStep.adaptive) o << " (cfl " << scene.timeStep.cfl << " x the smallest)";
+  o << "\n";
+  if (!e.failure.empty()) {
+    o << "estimate:     a timed step failed: " << e.failure << "\n";
+    return o.str();
+  }
+  if (e.stepsTimed == 0) return o.str();
+  o << "run time:     ~" << duration(e.secondsToEnd) << " for ~" << std::llround(e.stepsToEnd)
+    << " steps at " << e.secondsPerStep << " s per step (" << e.stepsTimed << " steps timed, "
+    << omp_get_max_threads()
+    << " threads; at today's step size: an adaptive step that shrinks later costs more)\n";
+  return o.str();
 }
 
 void requestStop(int signal) { g_stopSignal = signal == 0 ? SIGTERM : signal; }

@@ -15,6 +15,8 @@
 // it writes.
 #include <iosfwd>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "libcore/scene.hpp"
 
@@ -46,6 +48,26 @@ struct RunResult {
 /// Runs `scene` (loaded with initialise = true) to its end. Throws InputError for bad input (an
 /// unknown integrator, an unwritable output directory, a checkpoint that does not match).
 RunResult runScene(Scene& scene, const RunOptions& options);
+
+/// What a run will cost, from a few timed steps (`poresph info`): each module's stable step
+/// (Module::timeStepLimit) and the CFL limit, the step the scene takes now, the wall time per
+/// step and the projection to end_time (or max_steps) at the present step size.
+struct RunEstimate {
+  std::vector<std::pair<std::string, double>> moduleLimits;  ///< module, limit (s; inf: none)
+  double cflLimit = 0.0;          ///< cflTimeStep (velocity and acceleration criteria)
+  double dt = 0.0;                ///< the step now (fixed, or cfl x the smallest limit)
+  long stepsTimed = 0;            ///< steps timed (after one untimed first step)
+  double secondsPerStep = 0.0;    ///< wall
+  double stepsToEnd = 0.0;        ///< from the present time at the mean timed dt
+  double secondsToEnd = 0.0;      ///< stepsToEnd x secondsPerStep
+  std::string failure;            ///< the NumericalError of a timed step ("" if none)
+};
+
+/// Advances `scene` (initialised) by up to `steps` steps or `maxSeconds` of wall time, whichever
+/// comes first, and projects the cost of the whole run. Writes nothing; leaves the scene advanced.
+RunEstimate estimateRun(Scene& scene, long steps, double maxSeconds);
+/// Lines for `poresph info`: "stable steps: ...", "estimate: ...".
+std::string describeEstimate(const Scene& scene, const RunEstimate& e);
 
 /// A hash of the scene's physics and geometry (the resolved scene without end_time, max_steps,
 /// time_step, output, health): written into checkpoints and compared on restart.
