@@ -620,11 +620,13 @@ void ElasticSolidModule::initialiseDim(Simulation& sim) {
   family_ = s.addInt("solid_family", cap, kInternal, "solid");
   familyCount_ = s.addInt("solid_family_count", 1, kInternal, "solid");
   famGrad_ = s.addReal("solid_family_gradient", cap * D, kInternal, "solid");
-  famRevGrad_ = s.addReal("solid_family_reverse_gradient", cap * D, kInternal, "solid");
+  // The reverse gradient g_ba of a pair is b's own entry for a: kept as its slot in b's family
+  // (one int instead of D doubles per entry: 2.1 kB less per particle in 3D at ~106 members).
+  famRevSlot_ = s.addInt("solid_family_reverse_slot", cap, kInternal, "solid");
   std::int32_t* fam = s.data(family_);
   std::int32_t* famN = s.data(familyCount_);
   double* G = s.data(famGrad_);
-  double* GR = s.data(famRevGrad_);
+  std::int32_t* revSlot = s.data(famRevSlot_);
   const std::int32_t* ids = s.data(s.id());
   std::memset(famN, 0, sizeof(std::int32_t) * static_cast<size_t>(n));
 #pragma omp parallel for schedule(static) if (nm > 512)
@@ -642,7 +644,7 @@ void ElasticSolidModule::initialiseDim(Simulation& sim) {
                                  [](const auto& e, Index key) { return e.first < key; });
       if (it == other.end() || it->first != k)
         throw std::logic_error("solid module: reference family is not symmetric");
-      for (int a = 0; a < D; ++a) GR[(i * cap + static_cast<Index>(q)) * D + a] = it->second[a];
+      revSlot[i * cap + static_cast<Index>(q)] = static_cast<std::int32_t>(it - other.begin());
     }
   }
   // F = 1 at the start
@@ -947,7 +949,7 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
     const std::int32_t* fam = s.data(family_);
     const std::int32_t* famN = s.data(familyCount_);
     const double* G = s.data(famGrad_);
-    const double* GR = s.data(famRevGrad_);
+    const std::int32_t* revSlot = s.data(famRevSlot_);
     const double* P = s.data(piola_);
     const double* Fg = s.data(defGrad_);
     const double* X = s.data(refPos_);
@@ -982,7 +984,7 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
         const ElasticMaterial& ej = mats_[static_cast<size_t>(slotOf(mat[j]))];
         const double Vj = m[j] / ej.density;
         const Vec<D> g = Eigen::Map<const Vec<D>>(G + (i * cap + q) * D);
-        const Vec<D> gr = Eigen::Map<const Vec<D>>(GR + (i * cap + q) * D);
+        const Vec<D> gr = Eigen::Map<const Vec<D>>(G + (j * cap + revSlot[i * cap + q]) * D);
         const Mat<D> Pj = Eigen::Map<const Mat<D>>(P + j * D * D);
         f.noalias() += Vj * (Pi * g - Pj * gr);  // 2.76 (times m_a / V_a = rho0_a)
         const Vec<D> vji = Eigen::Map<const Vec<D>>(v + j * D) - vi;

@@ -23,7 +23,7 @@
 // with XSPH the core field position_correction (Simulation::positionCorrection, shared with the
 // fluid);
 // TL: deformation_gradient, first_piola, solid_family (ids), solid_family_count,
-// solid_family_gradient, solid_family_reverse_gradient; small strain: density_rate and the
+// solid_family_gradient, solid_family_reverse_slot; small strain: density_rate and the
 // correction state solid_correction_{matrix,shepard_sum,shepard_gradient} (libcore/corrections).
 #include <array>
 #include <string>
@@ -188,7 +188,8 @@ class ElasticSolidModule : public Module {
   std::array<double, 3> waveAmplitude_{0, 0, 0}, waveVector_{0, 0, 0};
 
   RealField refPos_, disp_, strain_, stress_, energy_, energyRate_, work_, workRate_, bcForce_;
-  RealField defGrad_, piola_, famGrad_, famRevGrad_;
+  RealField defGrad_, piola_, famGrad_;
+  IntField famRevSlot_;
   RealField densityRate_, xsph_;
   CorrectionFields corrFields_;
   NeighbourList solidNeighbours_;
