@@ -321,6 +321,118 @@ void NeighbourSearch::cellOrder(const double* x, int dim, Index n, double cellSi
   newToOld.assign(sorted_.begin(), sorted_.end());
 }
 
+// ---- Verlet list ------------------------------------------------------------------------------
+
+double VerletNeighbours::maxDisplacement(const double* x, int dim, Index nReal) const {
+  if (nReal_ < 0 || nReal != nReal_ || dim != dim_) return std::numeric_limits<double>::infinity();
+  const double* x0 = x0_.data();
+  double d2max = 0.0;
+  // Squared displacement per particle; a NaN position gives NaN, which max ignores: caught by
+  // the comparison below (a NaN makes `valid` false through the finiteness of the sum).
+  int bad = 0;
+#pragma omp parallel for schedule(static) reduction(max : d2max, bad)
+  for (Index i = 0; i < nReal; ++i) {
+    double d2 = 0.0;
+    for (int a = 0; a < dim; ++a) {
+      const double d = x[i * dim + a] - x0[i * dim + a];
+      d2 += d * d;
+    }
+    if (!(d2 <= 1e300)) bad = 1;
+    d2max = std::max(d2max, d2);
+  }
+  return bad ? std::numeric_limits<double>::infinity() : std::sqrt(d2max);
+}
+
+bool VerletNeighbours::valid(const double* x, int dim, Index nReal, Index nTotal, double radius,
+                             double skin) const {
+  if (nReal_ < 0 || nReal != nReal_ || nTotal != nTotal_ || dim != dim_ || radius != radius_ ||
+      skin != skin_)
+    return false;
+  // Strictly below skin/2, with a relative guard of 1e-9 for the round-off of the differences.
+  return maxDisplacement(x, dim, nReal) < 0.5 * skin * (1.0 - 1e-9);
+}
+
+void VerletNeighbours::rebuild(NeighbourSearch& search, const double* x, int dim, Index nReal,
+                               Index nTotal, double radius, double skin) {
+  if (!(skin >= 0.0) || !std::isfinite(skin))
+    throw std::logic_error("Verlet list: skin must be >= 0 and finite, got " + std::to_string(skin));
+  search.build(x, dim, nReal, nTotal, radius + skin, cand_);
+  x0_.assign(x, x + static_cast<size_t>(nReal) * static_cast<size_t>(dim));
+  nReal_ = nReal;
+  nTotal_ = nTotal;
+  dim_ = dim;
+  radius_ = radius;
+  skin_ = skin;
+  ++rebuilds_;
+}
+
+template <int D>
+void VerletNeighbours::filterDim(const double* x, double radius, NeighbourList& out) {
+  const Index n = cand_.realCount();
+  const double r2max = radius * radius;
+  const std::size_t total = cand_.index.size();
+  // The exact list is a subset of the candidates: room for all of them (reserved once).
+  if (out.index.capacity() < total) out.index.reserve(total + total / 16);
+  out.index.resize(total);
+  out.offset.resize(static_cast<size_t>(n) + 1);
+  const std::int64_t* co = cand_.offset.data();
+  const std::uint32_t* ci = cand_.index.data();
+  std::uint32_t* oi = out.index.data();
+  std::int64_t* oo = out.offset.data();
+  const int maxThreads = omp_get_max_threads();
+  threadBegin_.assign(static_cast<size_t>(maxThreads) + 1, 0);
+  threadUsed_.assign(static_cast<size_t>(maxThreads), 0);
+#pragma omp parallel num_threads(maxThreads)
+  {
+    const int t = omp_get_thread_num();
+    const int nt = omp_get_num_threads();
+    const Index i0 = n * t / nt, i1 = n * (t + 1) / nt;
+    // Each thread filters its particles into the candidates' own range of the output (the
+    // filtered rows never outgrow it), then the ranges are closed up.
+    std::int64_t w = co[i0];
+    for (Index i = i0; i < i1; ++i) {
+      oo[i] = w;
+      double xi[D];
+      for (int a = 0; a < D; ++a) xi[a] = x[i * D + a];
+      for (std::int64_t k = co[i]; k < co[i + 1]; ++k) {
+        const std::uint32_t j = ci[k];
+        double r2 = 0.0;
+        for (int a = 0; a < D; ++a) {
+          const double d = xi[a] - x[static_cast<Index>(j) * D + a];
+          r2 += d * d;
+        }
+        oi[w] = j;  // branch-free append
+        w += static_cast<std::int64_t>(r2 < r2max);
+      }
+    }
+    threadUsed_[static_cast<size_t>(t)] = w - co[i0];
+#pragma omp barrier
+#pragma omp single
+    {
+      for (int k = 0; k < nt; ++k)
+        threadBegin_[static_cast<size_t>(k) + 1] =
+            threadBegin_[static_cast<size_t>(k)] + threadUsed_[static_cast<size_t>(k)];
+      // Range k moves left (or stays): in increasing k no move overwrites data not yet moved.
+      for (int k = 1; k < nt; ++k) {
+        const Index b = n * k / nt;
+        std::memmove(oi + threadBegin_[static_cast<size_t>(k)], oi + co[b],
+                     sizeof(std::uint32_t) * static_cast<size_t>(threadUsed_[static_cast<size_t>(k)]));
+      }
+    }
+    const std::int64_t shift = co[i0] - threadBegin_[static_cast<size_t>(t)];
+    for (Index i = i0; i < i1; ++i) oo[i] -= shift;
+#pragma omp single
+    out.offset[static_cast<size_t>(n)] = threadBegin_[static_cast<size_t>(nt)];
+  }
+  out.index.resize(static_cast<size_t>(out.offset[static_cast<size_t>(n)]));
+}
+
+void VerletNeighbours::filter(const double* x, int dim, double radius, NeighbourList& out) {
+  if (dim != dim_ || cand_.offset.empty())
+    throw std::logic_error("Verlet list: filter called before a rebuild");
+  dispatchDimension(dim, [&](auto d) { filterDim<decltype(d)::value>(x, radius, out); });
+}
+
 std::size_t NeighbourSearch::bytes() const {
   std::size_t b = (cellOf_.capacity() + cellStart_.capacity() + sorted_.capacity() +
                    cursor_.capacity()) * sizeof(Index) +

@@ -70,4 +70,48 @@ class NeighbourSearch {
   std::vector<std::vector<std::int64_t>> threadCount_;
 };
 
+/// Verlet (skin) list: the candidates within radius + skin of each real particle, built by a
+/// NeighbourSearch, and the exact list (pairs closer than the radius, in candidate order)
+/// filtered from them every step. The candidates hold every pair closer than the radius as long
+/// as no particle has moved by skin/2 or more since they were built: two particles that were at
+/// least radius + skin apart can then have approached by less than skin, i.e. they are still at
+/// least the radius apart. `valid` checks exactly that (and the particle counts), so the filtered
+/// list always equals a fresh search's list as a set of pairs (tests/unit/test_neighbour_verlet).
+/// Only for stores without ghosts (a periodic halo is rebuilt every step, its ghost indices
+/// change): Simulation::updateNeighbours uses it when no axis is periodic.
+class VerletNeighbours {
+ public:
+  /// True when the candidates of the last rebuild (same radius and skin, same particle counts)
+  /// still hold every pair closer than `radius`: the largest displacement since the rebuild is
+  /// below skin/2.
+  bool valid(const double* x, int dim, Index nReal, Index nTotal, double radius,
+             double skin) const;
+  /// Rebuilds the candidates with `search` (radius + skin) and remembers the positions.
+  void rebuild(NeighbourSearch& search, const double* x, int dim, Index nReal, Index nTotal,
+               double radius, double skin);
+  /// The exact list: the candidates closer than `radius` (strictly), in candidate order.
+  void filter(const double* x, int dim, double radius, NeighbourList& out);
+  /// Largest displacement of a real particle since the last rebuild (infinite before the first).
+  double maxDisplacement(const double* x, int dim, Index nReal) const;
+  /// Forget the candidates (the next `valid` is false).
+  void invalidate() { nReal_ = -1; }
+  const NeighbourList& candidates() const { return cand_; }
+  std::int64_t rebuildCount() const { return rebuilds_; }
+  std::size_t bytes() const {
+    return cand_.bytes() + x0_.capacity() * sizeof(double) +
+           (threadBegin_.capacity() + threadUsed_.capacity()) * sizeof(std::int64_t);
+  }
+
+ private:
+  template <int D>
+  void filterDim(const double* x, double radius, NeighbourList& out);
+  NeighbourList cand_;
+  std::vector<double> x0_;  // positions of the real particles at the rebuild
+  Index nReal_ = -1, nTotal_ = -1;
+  int dim_ = 0;
+  double radius_ = 0.0, skin_ = 0.0;
+  std::int64_t rebuilds_ = 0;
+  std::vector<std::int64_t> threadBegin_, threadUsed_;
+};
+
 }  // namespace poresph

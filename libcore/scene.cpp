@@ -162,6 +162,11 @@ Scene buildScene(const YAML::Node& root, const std::string& file, const SceneOpt
   res["spacing"] = num(sim.spacing);
   res["h_over_dx"] = num(scene.hOverDx);
   res["kernel"] = scene.kernelName;
+  // Verlet skin of the neighbour list, in units of dx (Simulation::neighbourSkin; 0: off).
+  if (top.has("neighbour_skin")) {
+    sim.neighbourSkin = top.real("neighbour_skin", Range::closed(0.0, 2.0)) * sim.spacing;
+    res["neighbour_skin"] = num(sim.neighbourSkin / sim.spacing);
+  }
 
   // ---- time ----
   scene.integrator = top.choice("integrator", "leapfrog", integratorNames());

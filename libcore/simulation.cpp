@@ -118,6 +118,13 @@ RealField Simulation::positionCorrection() {
 
 void Simulation::updateNeighbours() {
   const double support = kernel.support();
+  // Verlet skin (no periodic axis: a periodic halo is rebuilt every step, see VerletNeighbours).
+  verletActive_ = neighbourSkin > 0.0 && !domain.anyPeriodic();
+  if (verletActive_ && verlet.valid(store.data(store.position()), dimension(), store.realCount(),
+                                    store.size(), support, neighbourSkin)) {
+    verlet.filter(store.data(store.position()), dimension(), support, neighbours);
+    return;
+  }
   if (reorderEvery > 0 && neighbourBuilds_ % reorderEvery == 0) {
     store.clearGhosts();
     halo.wrap(store, domain);
@@ -126,6 +133,12 @@ void Simulation::updateNeighbours() {
   }
   ++neighbourBuilds_;
   halo.build(store, domain, support);
+  if (verletActive_) {
+    verlet.rebuild(search, store.data(store.position()), dimension(), store.realCount(),
+                   store.size(), support, neighbourSkin);
+    verlet.filter(store.data(store.position()), dimension(), support, neighbours);
+    return;
+  }
   search.build(store.data(store.position()), dimension(), store.realCount(), store.size(), support,
                neighbours);
 }

@@ -61,6 +61,20 @@ class Simulation {
   NeighbourSearch search;
   PeriodicHalo halo;
   int reorderEvery = 50;     ///< cell-reorder the store every N neighbour builds (0: never)
+  /// Verlet skin (metres, scene key `neighbour_skin` in units of dx; 0: a fresh search every
+  /// step). With a skin and no periodic axis the search runs with radius support + skin only
+  /// when a particle has moved by skin/2 since the last search; every other step the exact
+  /// list is filtered from those candidates (docs/performance.md).
+  double neighbourSkin = 0.0;
+  VerletNeighbours verlet;
+  /// The candidates of the last search: the Verlet candidates (radius support + skin) when the
+  /// skin is active, the exact list otherwise. A superset of every neighbour list until
+  /// neighbourBuilds() changes (then the store may also have been reordered).
+  const NeighbourList& neighbourCandidates() const {
+    return verletActive_ ? verlet.candidates() : neighbours;
+  }
+  /// Number of neighbour searches so far (rebuilds of the candidates).
+  Index neighbourBuilds() const { return neighbourBuilds_; }
 
   // ---- scheduling ----
   void addModule(std::unique_ptr<Module> module);
@@ -101,6 +115,7 @@ class Simulation {
  private:
   RealField previousAcceleration_, positionCorrection_;
   Index neighbourBuilds_ = 0;
+  bool verletActive_ = false;
   std::vector<Index> order_;
 };
 
