@@ -22,6 +22,8 @@
 #include <sstream>
 #include <thread>
 
+#include "libcore/health.hpp"
+#include "libcore/memory.hpp"
 #include "libcore/parameters.hpp"
 #include "libcore/runner.hpp"
 #include "libcore/scene.hpp"
@@ -83,7 +85,30 @@ int commandInfo(const std::string& scenePath, long estimateSteps) {
     // Each module's stable step and the run time from a few timed steps (libcore/runner.hpp).
     std::cout << std::flush;
     initialiseScene(scene);
-    std::cout << describeEstimate(scene, estimateRun(scene, estimateSteps, 30.0));
+    const RunEstimate estimate = estimateRun(scene, estimateSteps, 30.0);
+    std::cout << describeEstimate(scene, estimate);
+    std::cout << describeMemory(memoryReport(*scene.sim, 0, 0.0));
+    // The run loop's rollback copy (libcore/health.hpp), CPU time of one copy, against the copy
+    // of every field it replaced.
+    auto copyCpu = [&](bool everyField) {
+      RollbackState copy(1, everyField);
+      copy.capture(*scene.sim);  // sizes the buffers
+      const int repeats = 5;
+      const std::clock_t c0 = std::clock();
+      for (int k = 0; k < repeats; ++k) copy.capture(*scene.sim);
+      return static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC / repeats;
+    };
+    const double checkpointCopy = copyCpu(false), everyCopy = copyCpu(true);
+    std::cout << "rollback:     one copy " << checkpointCopy * 1e3 << " ms CPU (checkpoint and output "
+              << "fields; every field: " << everyCopy * 1e3 << " ms)";
+    if (estimate.secondsPerStep > 0.0)
+      std::cout << ", a step " << estimate.secondsPerStep * 1e3 << " ms wall";
+    std::cout << ", copied every " << scene.health.rollbackEvery << " step(s)\n";
+  } else {
+    std::cout << describeMemory(memoryReport(
+        *scene.sim, 0, static_cast<double>(latticeNeighbourCount(
+                           scene.sim->dimension(),
+                           scene.sim->kernel.support() / scene.sim->spacing))));
   }
   return 0;
 }

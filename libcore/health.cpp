@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <sstream>
+#include <unordered_map>
 
 #include "libcore/parameters.hpp"
 #include "libcore/simulation.hpp"
@@ -18,6 +20,7 @@ HealthLimits readHealthLimits(const ParameterSet* section) {
   h.dtFloor = s.real("dt_floor", h.dtFloor, Range{0.0, 1.0, false, true});
   h.energyGrowth = s.real("energy_growth", h.energyGrowth, Range::positive());
   h.domainMargin = s.real("domain_margin", h.domainMargin, Range::nonNegative());
+  h.rollbackEvery = static_cast<Index>(s.integer("rollback_every", 1, 1, 1000000000));
   h.keepGoing = s.boolean("keep_going", false);
   s.finish();
   return h;
@@ -151,6 +154,111 @@ std::string HealthMonitor::describe(const Simulation& sim, const HealthIssue& is
   if (!issue.detail.empty()) o << " (" << issue.detail << ")";
   o << " at step " << sim.step << ", time " << sim.time << " s";
   return o.str();
+}
+
+}  // namespace poresph
+
+namespace poresph {
+
+bool RollbackState::copies(unsigned flags) {
+  return (flags & (kFieldCheckpoint | kFieldOutput)) != 0 && (flags & kFieldConstant) == 0;
+}
+
+std::size_t RollbackState::bytesPerParticle(const ParticleStore& st) {
+  std::size_t b = 0;
+  for (const auto& s : st.fields())
+    if (copies(s.flags))
+      b += static_cast<std::size_t>(s.components) *
+           (s.type == FieldType::Real ? sizeof(double) : sizeof(std::int32_t));
+  return b;
+}
+
+std::size_t RollbackState::bytes() const {
+  std::size_t b = 0;
+  for (const auto& v : real_) b += v.capacity() * sizeof(double);
+  for (const auto& v : int_) b += v.capacity() * sizeof(std::int32_t);
+  return b;
+}
+
+bool RollbackState::capture(const Simulation& sim) {
+  if (valid_ && sim.step != step_ && (sim.step - step_) % every_ != 0) return false;
+  const ParticleStore& st = sim.store;
+  const auto& specs = st.fields();
+  if (real_.size() != specs.size()) {
+    real_.resize(specs.size());
+    int_.resize(specs.size());
+  }
+  n_ = st.realCount();
+  for (size_t f = 0; f < specs.size(); ++f) {
+    if (!everyField_ && !copies(specs[f].flags)) {
+      // A field registered since the last capture may need no copy: keep no stale buffer.
+      real_[f].clear();
+      int_[f].clear();
+      continue;
+    }
+    const size_t count = static_cast<size_t>(n_) * static_cast<size_t>(specs[f].components);
+    if (specs[f].type == FieldType::Real) {
+      const double* p = st.data(RealField{static_cast<int>(f)});
+      real_[f].assign(p, p + count);
+    } else {
+      const std::int32_t* p = st.data(IntField{static_cast<int>(f)});
+      int_[f].assign(p, p + count);
+    }
+  }
+  time_ = sim.time;
+  dt_ = sim.dt;
+  step_ = sim.step;
+  modules_.resize(sim.modules.size());
+  for (size_t k = 0; k < sim.modules.size(); ++k) modules_[k] = sim.modules[k]->saveState();
+  valid_ = true;
+  return true;
+}
+
+bool RollbackState::restore(Simulation& sim) const {
+  if (!valid_) return false;
+  ParticleStore& st = sim.store;
+  st.clearGhosts();
+  if (st.realCount() != n_) return false;
+  const auto& specs = st.fields();
+  // Fields that are not copied (constant ones, scratch) follow their particles: put the store
+  // back into the captured particle order first (a cell reorder may have happened since), by
+  // the ids of the copy. Allocates, but only once, on the way out of a failed run.
+  const std::vector<std::int32_t>& capturedIds = int_[static_cast<size_t>(st.id().id)];
+  if (capturedIds.size() == static_cast<size_t>(n_)) {
+    const std::int32_t* ids = st.data(st.id());
+    bool same = true;
+    for (Index i = 0; i < n_ && same; ++i) same = ids[i] == capturedIds[static_cast<size_t>(i)];
+    if (!same) {
+      std::unordered_map<std::int32_t, Index> where;
+      where.reserve(static_cast<size_t>(n_));
+      for (Index i = 0; i < n_; ++i) where[ids[i]] = i;
+      std::vector<Index> newToOld(static_cast<size_t>(n_));
+      for (Index k = 0; k < n_; ++k) {
+        auto it = where.find(capturedIds[static_cast<size_t>(k)]);
+        if (it == where.end()) return false;  // a particle was removed and another added
+        newToOld[static_cast<size_t>(k)] = it->second;
+      }
+      st.permute(newToOld);
+    }
+  }
+  for (size_t f = 0; f < specs.size() && f < real_.size(); ++f) {
+    if (!everyField_ && !copies(specs[f].flags)) continue;
+    const size_t count = static_cast<size_t>(n_) * static_cast<size_t>(specs[f].components);
+    if (specs[f].type == FieldType::Real) {
+      if (real_[f].size() == count)
+        std::memcpy(st.data(RealField{static_cast<int>(f)}), real_[f].data(),
+                    count * sizeof(double));
+    } else if (int_[f].size() == count) {
+      std::memcpy(st.data(IntField{static_cast<int>(f)}), int_[f].data(),
+                  count * sizeof(std::int32_t));
+    }
+  }
+  sim.time = time_;
+  sim.dt = dt_;
+  sim.step = step_;
+  for (size_t k = 0; k < sim.modules.size() && k < modules_.size(); ++k)
+    if (!modules_[k].empty()) sim.modules[k]->restoreState(modules_[k]);
+  return true;
 }
 
 }  // namespace poresph

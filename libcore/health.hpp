@@ -15,12 +15,17 @@
 //                             of the scene (EnergyAccount, below)
 //   domain_margin      0.25   a particle further outside the box of the domain and the initial
 //                             particles than this fraction of the box size (non-periodic axes)
+//   rollback_every     1      steps between copies of the state a failed step is rolled back
+//                             to (RollbackState, below): 1 keeps the state before the failed
+//                             step; k > 1 copies every k steps (the written state is then up to
+//                             k - 1 steps older) for 1/k of the copying time
 //   J <= 0                    (no key) an inverted solid particle (deformation gradient)
 // `keep_going: true` (or `poresph run --keep-going`) turns the stops into warnings, printed once
 // per check.
 #include <array>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "libcore/types.hpp"
@@ -28,6 +33,7 @@
 namespace poresph {
 
 class ParameterSet;
+class ParticleStore;
 class Simulation;
 
 struct HealthLimits {
@@ -36,6 +42,7 @@ struct HealthLimits {
   double dtFloor = 1e-3;
   double energyGrowth = 1.0;
   double domainMargin = 0.25;
+  Index rollbackEvery = 1;
   bool keepGoing = false;
 };
 
@@ -96,6 +103,46 @@ class HealthMonitor {
   std::array<double, 3> boxLo_{}, boxHi_{};
   bool started_ = false;
   bool energyChecked_ = false;
+};
+
+/// The state a failed step is rolled back to by the run loop (libcore/runner.cpp), so that the
+/// run ends by writing a state that passed every check. It copies, for the real particles, only
+/// the fields that the written files hold: those flagged kFieldCheckpoint (the state a restart
+/// needs) or kFieldOutput (the snapshot), and every module's saveState(). Scratch fields, rates,
+/// the integrator's copies and the neighbour data are not copied: after a rollback the run only
+/// writes the checkpoint and the snapshot and stops. Buffers are reused (no allocation in the
+/// time loop once the particle count is steady). docs/particle-store.md has the measured costs.
+class RollbackState {
+ public:
+  /// `everyField`: copy every field (the run loop's copy before this class; kept to measure it).
+  explicit RollbackState(Index every = 1, bool everyField = false)
+      : every_(every < 1 ? 1 : every), everyField_(everyField) {}
+  /// Copies the state when due: the first call, then every `every` steps (by sim.step). Returns
+  /// whether it copied.
+  bool capture(const Simulation& sim);
+  /// Puts the copied fields, clock and module states back (ghosts removed). False when nothing
+  /// was captured or the particle count changed since.
+  bool restore(Simulation& sim) const;
+  bool valid() const { return valid_; }
+  Index capturedStep() const { return step_; }
+  /// Whether field `spec` is copied (checkpoint or output flag).
+  static bool copies(unsigned flags);
+  /// Bytes per real particle of one copy in this store.
+  static std::size_t bytesPerParticle(const ParticleStore& store);
+  /// Bytes held now (capacity of the buffers).
+  std::size_t bytes() const;
+
+ private:
+  Index every_;
+  bool everyField_;
+  std::vector<std::vector<double>> real_;
+  std::vector<std::vector<std::int32_t>> int_;
+  // Module::saveState() of each module (ModuleState, spelled out: module.hpp includes this file)
+  std::vector<std::vector<std::pair<std::string, std::vector<double>>>> modules_;
+  Index n_ = 0;
+  double time_ = 0.0, dt_ = 0.0;
+  Index step_ = -1;
+  bool valid_ = false;
 };
 
 }  // namespace poresph

@@ -23,6 +23,10 @@ enum FieldFlag : unsigned {
   kFieldOutput = 1u << 0,      ///< written to VTK
   kFieldCheckpoint = 1u << 1,  ///< written to checkpoints (restart state)
   kFieldToGhosts = 1u << 2,    ///< copied from the source particle when a ghost is made
+  /// Written once (initialise) and never again in the time loop, only permuted with the store
+  /// (e.g. the solid's reference families): the run loop's rollback copy (RollbackState,
+  /// libcore/health.hpp) does not copy it but restores the particle order instead.
+  kFieldConstant = 1u << 3,
   kFieldDefault = kFieldOutput | kFieldCheckpoint | kFieldToGhosts,
 };
 

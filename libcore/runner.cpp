@@ -57,71 +57,6 @@ class SignalGuard {
   struct sigaction oldTerm_ {};
 };
 
-/// A copy of the real particles' fields and the clock, taken before each step so that a failed
-/// step can be rolled back. Buffers are reused: after the first steps (while the integrator
-/// registers its scratch fields) capture() does not allocate unless the particle count grows.
-class LastGoodState {
- public:
-  void capture(const Simulation& sim) {
-    const ParticleStore& st = sim.store;
-    const auto& specs = st.fields();
-    if (real_.size() != specs.size()) {
-      real_.resize(specs.size());
-      int_.resize(specs.size());
-    }
-    n_ = st.realCount();
-    for (size_t f = 0; f < specs.size(); ++f) {
-      const size_t count = static_cast<size_t>(n_) * static_cast<size_t>(specs[f].components);
-      if (specs[f].type == FieldType::Real) {
-        const double* p = st.data(RealField{static_cast<int>(f)});
-        real_[f].assign(p, p + count);
-      } else {
-        const std::int32_t* p = st.data(IntField{static_cast<int>(f)});
-        int_[f].assign(p, p + count);
-      }
-    }
-    time_ = sim.time;
-    dt_ = sim.dt;
-    step_ = sim.step;
-    modules_.resize(sim.modules.size());
-    for (size_t k = 0; k < sim.modules.size(); ++k) modules_[k] = sim.modules[k]->saveState();
-    valid_ = true;
-  }
-  /// Puts the captured state back (ghosts removed). False if the particle count changed.
-  bool restore(Simulation& sim) const {
-    if (!valid_) return false;
-    ParticleStore& st = sim.store;
-    st.clearGhosts();
-    if (st.realCount() != n_) return false;
-    const auto& specs = st.fields();
-    for (size_t f = 0; f < specs.size() && f < real_.size(); ++f) {
-      if (specs[f].type == FieldType::Real) {
-        if (!real_[f].empty())
-          std::memcpy(st.data(RealField{static_cast<int>(f)}), real_[f].data(),
-                      real_[f].size() * sizeof(double));
-      } else if (!int_[f].empty()) {
-        std::memcpy(st.data(IntField{static_cast<int>(f)}), int_[f].data(),
-                    int_[f].size() * sizeof(std::int32_t));
-      }
-    }
-    sim.time = time_;
-    sim.dt = dt_;
-    sim.step = step_;
-    for (size_t k = 0; k < sim.modules.size() && k < modules_.size(); ++k)
-      if (!modules_[k].empty()) sim.modules[k]->restoreState(modules_[k]);
-    return true;
-  }
-
- private:
-  std::vector<std::vector<double>> real_;
-  std::vector<std::vector<std::int32_t>> int_;
-  std::vector<ModuleState> modules_;  ///< Module::saveState (rigid bodies, plates, ...)
-  Index n_ = 0;
-  double time_ = 0.0, dt_ = 0.0;
-  Index step_ = 0;
-  bool valid_ = false;
-};
-
 std::string duration(double s) {
   std::ostringstream o;
   if (!std::isfinite(s)) return "?";
@@ -317,7 +252,9 @@ RunResult runScene(Scene& scene, const RunOptions& options) {
   auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
 
   writeOutput();  // the initial (or restarted) state
-  LastGoodState lastGood;
+  // The state a failed step is rolled back to (libcore/health.hpp): checkpoint and output
+  // fields, copied every health.rollback_every steps.
+  RollbackState lastGood(limits.rollbackEvery);
 
   while (!scene.finished()) {
     lastGood.capture(sim);

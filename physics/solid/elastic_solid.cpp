@@ -617,12 +617,12 @@ void ElasticSolidModule::initialiseDim(Simulation& sim) {
   if (familyCapacity_ != 0 && familyCapacity_ != cap)
     throw std::logic_error("solid module: initialise() called twice with different families");
   familyCapacity_ = cap;
-  family_ = s.addInt("solid_family", cap, kInternal, "solid");
-  familyCount_ = s.addInt("solid_family_count", 1, kInternal, "solid");
-  famGrad_ = s.addReal("solid_family_gradient", cap * D, kInternal, "solid");
+  family_ = s.addInt("solid_family", cap, kInternal | kFieldConstant, "solid");
+  familyCount_ = s.addInt("solid_family_count", 1, kInternal | kFieldConstant, "solid");
+  famGrad_ = s.addReal("solid_family_gradient", cap * D, kInternal | kFieldConstant, "solid");
   // The reverse gradient g_ba of a pair is b's own entry for a: kept as its slot in b's family
   // (one int instead of D doubles per entry: 2.1 kB less per particle in 3D at ~106 members).
-  famRevSlot_ = s.addInt("solid_family_reverse_slot", cap, kInternal, "solid");
+  famRevSlot_ = s.addInt("solid_family_reverse_slot", cap, kInternal | kFieldConstant, "solid");
   std::int32_t* fam = s.data(family_);
   std::int32_t* famN = s.data(familyCount_);
   double* G = s.data(famGrad_);

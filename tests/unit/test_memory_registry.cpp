@@ -1,0 +1,204 @@
+// Only what a scene needs is allocated and run (issue 16 "Scene assembly", issue 17 memory):
+// the modules a scene builds are its stage list (Simulation::evaluateRates calls each stage of
+// each module in sim.modules, nothing else), and the store holds only the fields those modules
+// registered. Also the per-owner memory report of `poresph info` (libcore/memory.hpp) and the
+// run loop's rollback copy (RollbackState, libcore/health.hpp).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "libcore/health.hpp"
+#include "libcore/memory.hpp"
+#include "libcore/runner.hpp"
+#include "libcore/scene.hpp"
+
+using namespace poresph;
+
+namespace {
+
+// 2D water column between wall layers: fluid only.
+const char* kFluid = R"(dimension: 2
+domain: {lo: [-0.003, -0.003], hi: [0.013, 0.013]}
+spacing: 0.001
+kernel: wendland_c2
+end_time: 1.0
+time_step: {adaptive: true}
+output: {every_steps: 100}
+materials:
+  - {name: water, model: fluid, density: 1000, sound_speed: 10, viscosity: 1.0e-3}
+  - {name: steel, model: wall, density: 1000}
+geometry:
+  - {shape: box, lo: [-0.003, -0.003], hi: [0.013, 0.013], material: steel}
+  - {shape: box, lo: [0.0, 0.0], hi: [0.01, 0.01], material: water}
+fluid:
+  gravity: [0, -9.81]
+)";
+
+// A free 2D Total-Lagrangian clay block: solid only; DAMAGE is replaced by a damage law or "".
+const char* kSolid = R"(dimension: 2
+domain: {lo: [0, 0], hi: [0.01, 0.01]}
+spacing: 0.001
+end_time: 1.0
+time_step: {adaptive: true}
+output: {every_steps: 100}
+materials:
+  - {name: clay, model: elastic, density: 2000, young_modulus: 1.0e7, poisson_ratio: 0.25, formulation: total_lagrangian, hourglass: 1.0DAMAGE}
+geometry:
+  - {shape: box, lo: [0, 0], hi: [0.01, 0.01], material: clay}
+)";
+
+std::string solidScene(const std::string& damage) {
+  std::string s = kSolid;
+  s.replace(s.find("DAMAGE"), 6, damage);
+  return s;
+}
+
+std::vector<std::string> moduleNames(const Simulation& sim) {
+  std::vector<std::string> n;
+  for (const auto& m : sim.modules) n.push_back(m->name());
+  return n;
+}
+
+std::set<std::string> owners(const Simulation& sim) {
+  std::set<std::string> o;
+  for (const auto& f : sim.store.fields()) o.insert(f.owner);
+  return o;
+}
+
+bool hasFieldContaining(const Simulation& sim, const std::string& part) {
+  for (const auto& f : sim.store.fields())
+    if (f.name.find(part) != std::string::npos) return true;
+  return false;
+}
+
+// Advances a loaded scene by a few steps (the integrator registers its scratch then).
+void step(Scene& s, long n) {
+  const RunEstimate e = estimateRun(s, n, 30.0);
+  ASSERT_TRUE(e.failure.empty()) << e.failure;
+  ASSERT_GE(s.sim->step, n);
+}
+
+}  // namespace
+
+TEST(OnlyWhatASceneNeeds, FluidOnlySceneRunsOnlyTheFluidAndHasNoSolidDamageOrRigidField) {
+  Scene s = loadSceneText(kFluid, "fluid_only.yaml");
+  step(s, 3);
+  // The stage list: every stage of evaluateRates loops over sim.modules only.
+  EXPECT_EQ(moduleNames(*s.sim), std::vector<std::string>{"fluid"});
+  EXPECT_EQ(owners(*s.sim), (std::set<std::string>{"core", "fluid", "integrator"}));
+  for (const char* part : {"solid", "damage", "stress", "strain", "deformation", "family",
+                           "reference_position", "body", "bond", "piola"})
+    EXPECT_FALSE(hasFieldContaining(*s.sim, part)) << part;
+  // What the fluid registered is what it uses: pressure, density rate, wall velocity.
+  EXPECT_TRUE(s.sim->store.has("pressure"));
+  EXPECT_TRUE(s.sim->store.has("density_rate"));
+}
+
+TEST(OnlyWhatASceneNeeds, SolidOnlySceneBuildsNoFluidSumsAndWithoutDamageNoDamageField) {
+  Scene s = loadSceneText(solidScene(""), "solid_only.yaml");
+  step(s, 2);
+  EXPECT_EQ(moduleNames(*s.sim), std::vector<std::string>{"solid"});
+  EXPECT_EQ(owners(*s.sim), (std::set<std::string>{"core", "solid", "integrator"}));
+  for (const char* part : {"pressure", "colour", "curvature", "interface", "wall_velocity",
+                           "viscous", "damage", "body"})
+    EXPECT_FALSE(hasFieldContaining(*s.sim, part)) << part;
+  // The TL family is registered for a TL solid (the test sees the solid's fields at all).
+  EXPECT_TRUE(s.sim->store.has("solid_family"));
+  EXPECT_TRUE(s.sim->store.has("deformation_gradient"));
+}
+
+TEST(OnlyWhatASceneNeeds, DamageFieldsOnlyWhenAMaterialHasADamageLaw) {
+  Scene s = loadSceneText(
+      solidScene(", damage: {law: pcw, strain_onset: 0.022, strain_ultimate: 0.060}"),
+      "solid_damage.yaml");
+  EXPECT_EQ(moduleNames(*s.sim), std::vector<std::string>{"solid"});
+  EXPECT_TRUE(s.sim->store.has("damage"));
+  EXPECT_TRUE(s.sim->store.has("damage_dissipation"));
+  Scene plain = loadSceneText(solidScene(""), "solid_plain.yaml");
+  EXPECT_LT(plain.sim->store.bytesPerParticle(), s.sim->store.bytesPerParticle());
+}
+
+TEST(MemoryReport, LinesAddUpAndNameEveryOwnerOfTheStore) {
+  Scene s = loadSceneText(kFluid, "fluid_report.yaml");
+  step(s, 2);
+  const Simulation& sim = *s.sim;
+  const MemoryReport r = memoryReport(sim, 0, 0.0);
+  EXPECT_EQ(r.particles, static_cast<std::uint64_t>(sim.store.realCount()));
+  double sum = 0.0, fields = 0.0, rollback = -1.0, list = -1.0;
+  for (const auto& l : r.lines) {
+    sum += l.bytesPerParticle;
+    if (l.what.rfind("fields: ", 0) == 0) fields += l.bytesPerParticle;
+    if (l.what == "rollback copy") rollback = l.bytesPerParticle;
+    if (l.what == "neighbour list") list = l.bytesPerParticle;
+  }
+  EXPECT_DOUBLE_EQ(sum, r.bytesPerParticle);
+  EXPECT_DOUBLE_EQ(fields, static_cast<double>(sim.store.bytesPerParticle()));
+  EXPECT_DOUBLE_EQ(rollback, static_cast<double>(RollbackState::bytesPerParticle(sim.store)));
+  EXPECT_DOUBLE_EQ(list, static_cast<double>(sim.neighbours.bytes()) /
+                             static_cast<double>(sim.store.realCount()));
+  // Fluid-only: nothing is held for another module's particles (walls are the fluid's).
+  EXPECT_EQ(r.foreignBytesPerParticle, 0.0);
+  const std::string text = describeMemory(r);
+  for (const char* part : {"fields: core", "fields: fluid", "fields: integrator", "rollback copy",
+                           "neighbour list", "neighbour search", "total"})
+    EXPECT_NE(text.find(part), std::string::npos) << part << "\n" << text;
+}
+
+TEST(MemoryReport, BeforeTheFirstStepTheIntegratorScratchIsCountedFromTheIntegratedFields) {
+  SceneOptions opt;
+  opt.initialise = false;
+  Scene s = loadSceneText(kFluid, "fluid_unstepped.yaml", opt);
+  const Simulation& sim = *s.sim;
+  ASSERT_EQ(owners(sim).count("integrator"), 0u);
+  const MemoryReport r = memoryReport(sim, 1000, 20.0);
+  EXPECT_EQ(r.particles, 1000u);
+  double integrator = -1.0, list = -1.0;
+  for (const auto& l : r.lines) {
+    if (l.what == "fields: integrator") integrator = l.bytesPerParticle;
+    if (l.what == "neighbour list") list = l.bytesPerParticle;
+  }
+  // Velocity and position copies (2 x 2 doubles in 2D) plus the integrated density (1 double).
+  EXPECT_DOUBLE_EQ(integrator, 5.0 * 8.0);
+  EXPECT_DOUBLE_EQ(list, 20.0 * 4.0 + 8.0);
+  EXPECT_EQ(r.totalBytes(), static_cast<std::uint64_t>(r.bytesPerParticle * 1000.0 + 0.5));
+}
+
+TEST(MemoryReport, SolidFieldsHeldForFluidParticlesAreCountedAsForeign) {
+  // Water on a TL clay block: the solid's fields are allocated for the water particles too.
+  const char* text = R"(dimension: 2
+domain: {lo: [0, 0], hi: [0.01, 0.02]}
+spacing: 0.001
+end_time: 1.0
+time_step: {adaptive: true}
+output: {every_steps: 100}
+materials:
+  - {name: clay, model: elastic, density: 2000, young_modulus: 1.0e7, poisson_ratio: 0.25, formulation: total_lagrangian, hourglass: 1.0}
+  - {name: water, model: fluid, density: 1000, sound_speed: 10, viscosity: 1.0e-3}
+geometry:
+  - {shape: box, lo: [0, 0], hi: [0.01, 0.01], material: clay}
+  - {shape: box, lo: [0, 0.01], hi: [0.01, 0.02], material: water}
+)";
+  Scene s = loadSceneText(text, "mixed.yaml");
+  const Simulation& sim = *s.sim;
+  const MemoryReport r = memoryReport(sim, 0, 0.0);
+  double solidBytes = 0.0;
+  for (const auto& f : sim.store.fields())
+    if (f.owner == "solid")
+      solidBytes += f.components * (f.type == FieldType::Real ? 8.0 : 4.0);
+  ASSERT_GT(solidBytes, 0.0);
+  const std::vector<Index> count = sim.phaseCounts();
+  const double waterShare = static_cast<double>(count[kPhaseFluid]) /
+                            static_cast<double>(sim.store.realCount());
+  ASSERT_GT(waterShare, 0.3);
+  bool found = false;
+  for (const auto& l : r.lines)
+    if (l.what == "fields: solid") {
+      found = true;
+      EXPECT_NEAR(l.foreignBytesPerParticle, solidBytes * waterShare, 1e-9 * solidBytes);
+    }
+  EXPECT_TRUE(found);
+  EXPECT_GT(r.foreignBytesPerParticle, 0.0);
+}
