@@ -17,6 +17,8 @@ Command addImageCommand(CLI::App& app);
 Command addSynthCommand(CLI::App& app);
 /// `poresph sweep SCENE --set key=v1,v2 ... --out DIR`: a case-by-case study (docs/cli.md).
 Command addSweepCommand(CLI::App& app);
+/// `poresph study SCENE --vary name=v1,v2 ... --out DIR`: error vs cost of numerical settings.
+Command addStudyCommand(CLI::App& app);
 
 /// A whole number in [lo, hi] from an option's text; InputError naming the option and the rule.
 long long wholeNumber(const std::string& option, const std::string& text, long long lo,

@@ -5,6 +5,7 @@
 //   poresph image FILE [--shape NX NY NZ] [--pore-label L] [--connectivity C] ... (app/image_command.cpp)
 //   poresph synth OUT [--shape NX NY NZ] [--porosity P] ...                      (app/image_command.cpp)
 //   poresph sweep SCENE --set key=v1,v2 [--set ...] --out DIR [--summary cols]  (app/sweep_command.cpp)
+//   poresph study SCENE --vary name=v1,v2 [--vary ...] --out DIR              (app/study_command.cpp)
 //   poresph --help | --version
 //
 // Exit codes: 0 done, 2 bad input (scene, options, output directory), 3 numerical blow-up,
@@ -25,6 +26,7 @@
 #include "libcore/health.hpp"
 #include "libcore/memory.hpp"
 #include "libcore/parameters.hpp"
+#include "libcore/reference.hpp"
 #include "libcore/runner.hpp"
 #include "libcore/scene.hpp"
 #include "app/commands.hpp"
@@ -117,11 +119,11 @@ int commandInfo(const std::string& scenePath, long estimateSteps) {
 /// of CLI11's "The following arguments were not expected".
 void checkCommand(int argc, char** argv) {
   if (argc < 2 || argv[1][0] == '-') return;
-  const std::vector<std::string> commands = {"run", "info", "image", "synth", "sweep"};
+  const std::vector<std::string> commands = {"run", "info", "image", "synth", "sweep", "study"};
   const std::string word = argv[1];
   if (std::find(commands.begin(), commands.end(), word) != commands.end()) return;
   const std::string guess = closestMatch(word, commands);
-  throw InputError("unknown command '" + word + "'; commands: run, info, image, synth, sweep" +
+  throw InputError("unknown command '" + word + "'; commands: run, info, image, synth, sweep, study" +
                    (guess.empty() ? std::string() : " (did you mean '" + guess + "'?)") +
                    "; see poresph --help");
 }
@@ -204,6 +206,19 @@ int commandRun(const std::string& scenePath, std::string outDir, bool force,
   const RunResult r = runScene(scene, opt);
 
   std::ostringstream end;
+  if (scene.reference.declared) {
+    // The scene's reference quantity on the final state (libcore/reference.hpp): DIR/reference.yaml.
+    const ReferenceResult ref =
+        evaluateReference(scene, (fs::path(outDir) / "timeseries.csv").string());
+    writeFile((fs::path(outDir) / "reference.yaml").string(), referenceYaml(scene.reference, ref));
+    end << "reference: " << scene.reference.quantity << " = ";
+    if (ref.ok) end << ref.measured;
+    else end << "not measured (" << ref.note << ")";
+    if (ref.ok && ref.hasValue)
+      end << " (value " << ref.value << ", error " << ref.error << (ref.relative ? "" : " absolute")
+          << ")";
+    end << "\n";
+  }
   end << "steps " << r.steps << ", time " << r.time << " s, wall " << r.wallSeconds << " s, "
       << r.snapshots << " snapshots, checkpoint " << r.checkpoint << "\n";
   switch (r.status) {
@@ -257,7 +272,7 @@ int main(int argc, char** argv) {
 
   // Commands in their own files (app/commands.hpp); their values are checked when they run.
   const std::vector<app::Command> commands = {app::addImageCommand(app), app::addSynthCommand(app),
-                                                app::addSweepCommand(app)};
+                                                app::addSweepCommand(app), app::addStudyCommand(app)};
 
   try {
     checkCommand(argc, argv);

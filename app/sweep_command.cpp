@@ -21,6 +21,7 @@
 #include "app/commands.hpp"
 #include "libcore/parameters.hpp"
 #include "libcore/scene.hpp"
+#include "libcore/study.hpp"
 
 namespace fs = std::filesystem;
 
@@ -39,23 +40,7 @@ struct Setting {
   std::vector<std::string> values;
 };
 
-std::vector<std::string> splitList(const std::string& s, char sep) {
-  std::vector<std::string> out;
-  std::string cur;
-  int depth = 0;  // commas inside [..] or {..} belong to one value
-  for (char c : s) {
-    if (c == '[' || c == '{') ++depth;
-    if (c == ']' || c == '}') --depth;
-    if (c == sep && depth == 0) {
-      out.push_back(cur);
-      cur.clear();
-    } else {
-      cur += c;
-    }
-  }
-  out.push_back(cur);
-  return out;
-}
+std::vector<std::string> splitList(const std::string& s, char sep) { return splitTopLevel(s, sep); }
 
 Setting parseSet(const std::string& text) {
   const auto eq = text.find('=');
@@ -69,102 +54,7 @@ Setting parseSet(const std::string& text) {
   return s;
 }
 
-/// The node at `path` (a.b[2].c; a list element also by its `name`: materials.clay.density),
-/// created where a mapping lacks the key (the scene parser then names an unknown one).
-YAML::Node locate(YAML::Node root, const std::string& path, const std::string& what) {
-  YAML::Node node = root;
-  std::string done;
-  for (const std::string& partIn : splitList(path, '.')) {
-    std::string part = partIn;
-    std::vector<long> indices;
-    const auto br = part.find('[');
-    if (br != std::string::npos) {
-      std::string rest = part.substr(br);
-      part = part.substr(0, br);
-      while (!rest.empty()) {
-        const auto close = rest.find(']');
-        if (rest[0] != '[' || close == std::string::npos)
-          throw InputError(what + ": malformed index in '" + partIn + "'");
-        indices.push_back(std::stol(rest.substr(1, close - 1)));
-        rest = rest.substr(close + 1);
-      }
-    }
-    if (part.empty() && indices.empty()) throw InputError(what + ": an empty key in '" + path + "'");
-    if (!part.empty()) {
-      if (node.IsSequence()) {
-        // A list element by its name.
-        YAML::Node found;
-        bool have = false;
-        std::string names;
-        for (size_t k = 0; k < node.size(); ++k) {
-          const YAML::Node n = node[k];
-          if (n.IsMap() && n["name"] && n["name"].IsScalar()) {
-            names += (names.empty() ? "" : ", ") + n["name"].Scalar();
-            if (n["name"].Scalar() == part && !have) {
-              found.reset(n);
-              have = true;
-            }
-          }
-        }
-        if (!have)
-          throw InputError(what + ": '" + done + "' is a list with no element named '" + part +
-                           "'" + (names.empty() ? std::string() : " (names: " + names + ")") +
-                           "; use an index, e.g. " + done + "[0]");
-        node.reset(found);
-      } else if (node.IsMap() || node.IsNull()) {
-        YAML::Node child = node[part];
-        node.reset(child);
-      } else {
-        throw InputError(what + ": '" + done + "' is a value, not a mapping: cannot set '" + part + "' in it");
-      }
-      done += (done.empty() ? "" : ".") + part;
-    }
-    for (long i : indices) {
-      if (!node.IsSequence() || i < 0 || i >= static_cast<long>(node.size()))
-        throw InputError(what + ": '" + done + "' has no element [" + std::to_string(i) + "]" +
-                         (node.IsSequence() ? " (" + std::to_string(node.size()) + " elements)" : " (not a list)"));
-      YAML::Node child = node[static_cast<size_t>(i)];
-      node.reset(child);
-      done += "[" + std::to_string(i) + "]";
-    }
-  }
-  return node;
-}
-
-std::string caseName(size_t index, const std::vector<std::pair<std::string, std::string>>& chosen) {
-  std::string name = "case" + std::string(index < 9 ? "0" : "") + std::to_string(index + 1);
-  for (const auto& [k, v] : chosen) {
-    std::string last = k.substr(k.find_last_of('.') == std::string::npos ? 0 : k.find_last_of('.') + 1);
-    name += "_" + last + "=" + v;
-  }
-  for (auto& c : name)
-    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '=' || c == '-' || c == '+'))
-      c = '-';
-  return name.size() > 120 ? name.substr(0, 120) : name;
-}
-
-std::string shellQuote(const std::string& s) {
-  std::string out = "'";
-  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return out + "'";
-}
-
-std::string selfExe() {
-  std::error_code ec;
-  const fs::path p = fs::read_symlink("/proc/self/exe", ec);
-  return ec ? std::string("poresph") : p.string();
-}
-
-/// scripts/plot_timeseries.py next to the build (build/poresph -> ../scripts), or "".
-std::string plotScript() {
-  const fs::path exe = selfExe();
-  for (const fs::path& p : {exe.parent_path().parent_path() / "scripts" / "plot_timeseries.py",
-                            fs::path("scripts") / "plot_timeseries.py"}) {
-    std::error_code ec;
-    if (fs::exists(p, ec)) return p.string();
-  }
-  return "";
-}
+std::string plotScript() { return findScript("plot_timeseries.py"); }
 
 /// Header and last row of a timeseries.csv.
 bool lastRow(const fs::path& csv, std::vector<std::string>& header, std::vector<std::string>& row) {
@@ -184,15 +74,7 @@ int runSweep(const SweepOptions& o) {
   std::vector<Setting> sets;
   for (const auto& s : o.sets) sets.push_back(parseSet(s));
   if (sets.empty()) throw InputError("--set: give at least one key.path=v1,v2,... to sweep");
-  YAML::Node base;
-  try {
-    base = YAML::LoadFile(o.scene);
-  } catch (const YAML::BadFile&) {
-    throw InputError("scene '" + o.scene + "': cannot read the file");
-  } catch (const YAML::Exception& e) {
-    throw InputError("scene '" + o.scene + "': " + e.what());
-  }
-  checkDuplicateKeys(base, o.scene);
+  const YAML::Node base = readSceneYaml(o.scene);
   if (o.out.empty()) throw InputError("--out: give the study's folder");
   std::error_code ec;
   if (fs::exists(o.out, ec) && !fs::is_empty(o.out, ec) && !o.overwrite)
@@ -203,9 +85,15 @@ int runSweep(const SweepOptions& o) {
   if (ec) throw InputError("--out '" + o.out + "': cannot create the folder: " + ec.message());
 
   // ---- cases: every combination of the values, the first --set varying slowest ----
-  size_t total = 1;
-  for (const auto& s : sets) total *= s.values.size();
-  if (total > 10000) throw InputError("--set: " + std::to_string(total) + " cases, more than 10000");
+  std::vector<std::pair<std::string, std::vector<std::string>>> grid;
+  for (const auto& s : sets) grid.emplace_back(s.key, s.values);
+  std::vector<std::vector<std::pair<std::string, std::string>>> chosen;
+  try {
+    chosen = expandGrid(grid, 10000);
+  } catch (const InputError& e) {
+    throw InputError(std::string("--set: ") + e.what());
+  }
+  const size_t total = chosen.size();
   const fs::path sceneDir = fs::absolute(fs::path(o.scene)).parent_path();
   struct Case {
     std::string name;
@@ -216,43 +104,30 @@ int runSweep(const SweepOptions& o) {
   std::vector<Case> cases;
   for (size_t c = 0; c < total; ++c) {
     Case k;
-    size_t rem = c;
-    for (size_t s = sets.size(); s-- > 0;) {
-      k.chosen.insert(k.chosen.begin(), {sets[s].key, sets[s].values[rem % sets[s].values.size()]});
-      rem /= sets[s].values.size();
-    }
-    k.name = caseName(c, k.chosen);
+    k.chosen = chosen[c];
+    k.name = caseFolderName(c, k.chosen);
     cases.push_back(k);
   }
-  const std::string exe = selfExe();
+  const std::string exe = selfExecutable();
   std::cerr << "poresph sweep: " << total << " cases of " << o.scene << " in " << o.out << "\n";
   for (Case& k : cases) {
     const fs::path dir = fs::path(o.out) / k.name;
     if (o.overwrite) fs::remove_all(dir, ec);
     fs::create_directories(dir, ec);
     // The case's scene: overrides applied, relative paths (images) resolved from the original.
-    YAML::Node scene = YAML::Clone(base);
+    const fs::path scenePath = dir / "scene.yaml";
     try {
+      std::vector<SceneEdit> edits;
+      std::string header = o.scene + " with";
       for (const auto& [key, value] : k.chosen) {
-        YAML::Node target = locate(scene, key, "--set " + key);
-        YAML::Node v = YAML::Load(value);
-        target = v;
+        edits.push_back({key, value});
+        header += " " + key + "=" + value;
       }
+      writeCaseScene(base, edits, sceneDir.string(), scenePath.string(), header + " (poresph sweep)");
     } catch (const InputError& e) {
       k.status = std::string("bad setting: ") + e.what();
       std::cerr << "  " << k.name << ": " << k.status << "\n";
       continue;
-    }
-    if (scene["geometry"] && scene["geometry"].IsSequence())
-      for (auto g : scene["geometry"])
-        if (g.IsMap() && g["file"] && g["file"].IsScalar() && fs::path(g["file"].Scalar()).is_relative())
-          g["file"] = (sceneDir / g["file"].Scalar()).lexically_normal().string();
-    const fs::path scenePath = dir / "scene.yaml";
-    {
-      std::ofstream f(scenePath);
-      f << "# " << o.scene << " with";
-      for (const auto& [key, value] : k.chosen) f << " " << key << "=" << value;
-      f << " (poresph sweep)\n" << YAML::Dump(scene) << "\n";
     }
     // The parser checks the case before it runs: its errors name this file, line and key.
     try {
@@ -266,23 +141,20 @@ int runSweep(const SweepOptions& o) {
       std::cerr << "  " << k.name << ": " << k.status << "\n";
       continue;
     }
-    std::string cmd = shellQuote(exe) + " run " + shellQuote(scenePath.string()) + " --out " +
-                      shellQuote((dir / "run").string()) + " --force";
-    if (!o.threads.empty()) cmd += " --threads " + shellQuote(o.threads);
-    if (o.keepGoing) cmd += " --keep-going";
-    cmd += " > " + shellQuote((dir / "log.txt").string()) + " 2>&1";
+    std::vector<std::string> argv = {exe, "run", scenePath.string(), "--out", (dir / "run").string(), "--force"};
+    if (!o.threads.empty()) {
+      argv.push_back("--threads");
+      argv.push_back(o.threads);
+    }
+    if (o.keepGoing) argv.push_back("--keep-going");
     std::cerr << "  " << k.name << ": running (log " << (dir / "log.txt").string() << ")\n";
-    const int status = std::system(cmd.c_str());
-    k.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+    k.code = runChild(argv, (dir / "log.txt").string()).code;
     k.status = k.code == 0 ? "finished"
                : k.code == 3 ? "numerical failure (exit 3)"
                : k.code == 2 ? "bad input (exit 2)"
                              : "failed (exit " + std::to_string(k.code) + ")";
     if (k.code != 0) {
-      std::ifstream log(dir / "log.txt");
-      std::string line, lastLine;
-      while (std::getline(log, line))
-        if (line.find("error") != std::string::npos || line.find("failure") != std::string::npos) lastLine = line;
+      const std::string lastLine = lastErrorLine((dir / "log.txt").string());
       if (!lastLine.empty()) k.status += ": " + lastLine;
     }
     std::cerr << "  " << k.name << ": " << k.status << "\n";

@@ -333,6 +333,12 @@ Scene buildScene(const YAML::Node& root, const std::string& file, const SceneOpt
     }
   }
 
+  // ---- the quantity a run is judged by (libcore/reference.hpp; `poresph study`) ----
+  if (top.has("reference")) {
+    scene.reference = readReference(top.section("reference"), dim);
+    res["reference"] = YAML::Clone(root["reference"]);
+  }
+
   top.finish();
 
   // ---- modules: configure in order of first use (materials first, then section-only ones) ----
@@ -377,12 +383,24 @@ Scene buildScene(const YAML::Node& root, const std::string& file, const SceneOpt
   {
     MemoryEstimate& mem = scene.memory;
     mem.particles = count.sites;
-    mem.fieldBytesPerParticle = sim.store.bytesPerParticle();
+    // What `poresph info` reports by owner (libcore/memory.hpp): the registered fields, the
+    // integrator's scratch, the rollback copy, the neighbour list and search (lattice estimate);
+    // plus the fields modules register only in initialise() (the TL reference family).
     const double sOverDx = sim.kernel.support() / sim.spacing;
-    mem.neighbourBytesPerParticle =
-        static_cast<std::uint64_t>(latticeNeighbourCount(dim, sOverDx)) * sizeof(std::uint32_t) +
-        sizeof(std::int64_t) + 2 * sizeof(Index) + static_cast<std::uint64_t>(dim) * sizeof(double);
-    mem.bytesPerParticle = 2 * mem.fieldBytesPerParticle + mem.neighbourBytesPerParticle;
+    const double neighbours = static_cast<double>(latticeNeighbourCount(dim, sOverDx));
+    const MemoryReport report = memoryReport(sim, count.sites, neighbours);
+    double fields = 0.0, rollback = 0.0, lists = 0.0;
+    for (const auto& l : report.lines) {
+      if (l.what.rfind("fields: ", 0) == 0) fields += l.bytesPerParticle;
+      else if (l.what == "rollback copy") rollback += l.bytesPerParticle;
+      else lists += l.bytesPerParticle;
+    }
+    for (const auto& m : sim.modules) fields += m->deferredBytesPerParticle(sim, neighbours);
+    mem.fieldBytesPerParticle = static_cast<std::uint64_t>(std::ceil(fields));
+    mem.rollbackBytesPerParticle = static_cast<std::uint64_t>(std::ceil(rollback));
+    mem.neighbourBytesPerParticle = static_cast<std::uint64_t>(std::ceil(lists));
+    mem.bytesPerParticle =
+        mem.fieldBytesPerParticle + mem.rollbackBytesPerParticle + mem.neighbourBytesPerParticle;
     if (__builtin_mul_overflow(mem.particles, mem.bytesPerParticle, &mem.totalBytes))
       mem.totalBytes = std::numeric_limits<std::uint64_t>::max();
     mem.availableBytes = options.availableMemory ? options.availableMemory : availableMemoryBytes();
@@ -557,7 +575,7 @@ std::string MemoryEstimate::describe() const {
   std::ostringstream o;
   o << "about " << formatBytes(totalBytes) << " (" << particles << " particles x "
     << bytesPerParticle << " bytes per particle: fields " << fieldBytesPerParticle
-    << ", their copy for step rollback " << fieldBytesPerParticle << ", neighbour lists ~"
+    << ", rollback copy " << rollbackBytesPerParticle << ", neighbour lists ~"
     << neighbourBytesPerParticle << ")";
   if (availableBytes > 0)
     o << "; available " << formatBytes(availableBytes) << " (MemAvailable)";

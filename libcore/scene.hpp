@@ -19,6 +19,7 @@
 
 #include "libcore/geometry.hpp"
 #include "libcore/health.hpp"
+#include "libcore/reference.hpp"
 #include "libcore/simulation.hpp"
 
 namespace poresph {
@@ -51,15 +52,19 @@ struct SceneOptions {
 
 /// What a run of the scene needs in memory, estimated before any particle is allocated: the
 /// particle count of the counting pass (countLattice) times the bytes per particle of the fields
-/// the modules registered in configure(), twice (the run loop keeps a copy of the last good
-/// state), plus the neighbour lists (lattice estimate latticeNeighbourCount x 4 bytes + an 8-byte
-/// offset) and the search's per-particle arrays (16 + 8 D bytes). Periodic ghosts and the
-/// transient arrays of the geometry fill are not counted.
+/// the modules registered in configure() and will register in initialise(), the integrator's
+/// scratch, the run loop's rollback copy (libcore/health.hpp RollbackState), plus the neighbour
+/// lists (lattice estimate latticeNeighbourCount x 4 bytes + an 8-byte offset) and the search's
+/// per-particle arrays (16 + 8 D bytes): memoryReport() of libcore/memory.hpp. Periodic ghosts
+/// and the transient arrays of the geometry fill are not counted.
 struct MemoryEstimate {
   std::uint64_t particles = 0;
-  std::uint64_t fieldBytesPerParticle = 0;      ///< ParticleStore::bytesPerParticle()
+  /// Registered fields, the integrator's scratch and the fields modules register in
+  /// initialise() (Module::deferredBytesPerParticle)
+  std::uint64_t fieldBytesPerParticle = 0;
+  std::uint64_t rollbackBytesPerParticle = 0;   ///< RollbackState (checkpoint + output fields)
   std::uint64_t neighbourBytesPerParticle = 0;  ///< lists + search
-  std::uint64_t bytesPerParticle = 0;           ///< 2 x fields + neighbours
+  std::uint64_t bytesPerParticle = 0;           ///< fields + rollback + neighbours
   std::uint64_t totalBytes = 0;                 ///< particles x bytesPerParticle (saturated)
   std::uint64_t availableBytes = 0;             ///< MemAvailable (0: unknown)
   bool fits() const { return availableBytes == 0 || totalBytes <= availableBytes; }
@@ -80,6 +85,7 @@ struct Scene {
   TimeStepSettings timeStep;
   OutputSettings output;
   HealthLimits health;      ///< the `health:` section (libcore/health.hpp)
+  ReferenceSpec reference;  ///< the `reference:` section (libcore/reference.hpp)
   std::vector<Region> regions;
   std::vector<Index> particlesPerMaterial;  ///< by material id (counted before the fill)
   std::vector<double> referenceDensity;     ///< rho0 by material id
