@@ -13,6 +13,9 @@
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLUnstructuredGridWriter.h>
 
+#include <Eigen/Eigenvalues>
+
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -134,6 +137,38 @@ std::string OutputWriter::writeSnapshot(const Simulation& sim) {
       }
     }
     grid->GetPointData()->AddArray(arr);
+    // Principal values of a stress tensor (descending, of its symmetric part; 0 for particles
+    // without stress, e.g. fluids): what damage criteria and crack pictures read (Table 5.1's
+    // Rankine on the largest), so ParaView needs no calculator. Written for every D x D field
+    // named "stress" (the solid's Cauchy stress).
+    if (shape == Shape::Tensor && spec.name == "stress") {
+      vtkNew<vtkDoubleArray> principal;
+      principal->SetName("principal_stress");
+      principal->SetNumberOfComponents(3);
+      principal->SetNumberOfTuples(n);
+      double* pr = principal->GetPointer(0);
+#pragma omp parallel for schedule(static)
+      for (Index i = 0; i < n; ++i) {
+        const double* in = src + static_cast<Index>(c) * i;
+        Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
+        for (int a = 0; a < d; ++a)
+          for (int b = 0; b < d; ++b) M(a, b) = 0.5 * (in[a + d * b] + in[b + d * a]);
+        Eigen::Vector3d ev = Eigen::Vector3d::Zero();  // 1D: sigma_xx; 2D: the in-plane pair
+        if (d == 1) {
+          ev[0] = M(0, 0);
+        } else if (d == 2) {
+          const double mid = 0.5 * (M(0, 0) + M(1, 1));
+          const double rad = std::hypot(0.5 * (M(0, 0) - M(1, 1)), M(0, 1));
+          ev = Eigen::Vector3d(mid + rad, mid - rad, 0.0);
+        } else {
+          Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
+          es.computeDirect(M, Eigen::EigenvaluesOnly);
+          ev = es.eigenvalues().reverse();  // descending
+        }
+        for (int a = 0; a < 3; ++a) pr[3 * i + a] = ev[a];
+      }
+      grid->GetPointData()->AddArray(principal);
+    }
   }
 
   // TimeValue: ParaView shows it as the time of a single file

@@ -1,6 +1,8 @@
 // Output: .vtu snapshots read back with VTK's own reader, the .pvd collection and the CSV.
 #include <gtest/gtest.h>
 
+#include <Eigen/Dense>
+
 #include <vtkCellTypes.h>
 #include <vtkDataArray.h>
 #include <vtkFieldData.h>
@@ -132,6 +134,32 @@ void compareSnapshot(const Simulation& sim, const std::string& file) {
       ASSERT_EQ(arr->GetNumberOfComponents(), c);
       for (Index q = 0; q < n * c; ++q)
         EXPECT_EQ(arr->GetComponent(q / c, static_cast<int>(q % c)), src[q]);
+    }
+  }
+  // principal_stress: the descending principal values of the symmetric part of "stress" (2D:
+  // the in-plane pair, then 0): they sum to the trace and each is a root of det(S - l 1).
+  if (s.has("stress") && d > 1 && s.components(s.real("stress").id) == d * d) {
+    ++expectedArrays;
+    vtkDataArray* pr = g->GetPointData()->GetArray("principal_stress");
+    ASSERT_NE(pr, nullptr);
+    ASSERT_EQ(pr->GetNumberOfComponents(), 3);
+    const double* S = s.data(s.real("stress"));
+    for (Index i = 0; i < n; ++i) {
+      Eigen::MatrixXd M(d, d);
+      for (int a = 0; a < d; ++a)
+        for (int b = 0; b < d; ++b)
+          M(a, b) = 0.5 * (S[i * d * d + a + d * b] + S[i * d * d + b + d * a]);
+      const double scale = std::max(1.0, M.norm());
+      double sum = 0.0;
+      for (int k = 0; k < d; ++k) {
+        const double l = pr->GetComponent(i, k);
+        sum += l;
+        EXPECT_NEAR((M - l * Eigen::MatrixXd::Identity(d, d)).determinant(), 0.0,
+                    1e-9 * std::pow(scale, d));
+        if (k > 0) EXPECT_GE(pr->GetComponent(i, k - 1), l);
+      }
+      EXPECT_NEAR(sum, M.trace(), 1e-12 * scale);
+      if (d == 2) EXPECT_EQ(pr->GetComponent(i, 2), 0.0);
     }
   }
   EXPECT_EQ(g->GetPointData()->GetNumberOfArrays(), expectedArrays);
