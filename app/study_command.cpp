@@ -23,6 +23,9 @@ Command addStudyCommand(CLI::App& app) {
   c->add_option("--set", o->sets, "key.path=value for every run (repeatable)");
   c->add_option("--out,-o", o->out, "Study folder: one sub-folder per run, study.csv/.md/.png")->required();
   c->add_option("--threads,-t", o->threads, "OpenMP threads for each run");
+  c->add_option("--cost", o->cost,
+                "wall (default) or cpu: the cost axis of the Pareto front and the plot (cpu on a "
+                "loaded machine)");
   c->add_flag("--overwrite", o->overwrite, "Replace the runs of an existing, non-empty study folder");
   c->add_flag("--no-plot", o->noPlot, "Do not draw study.png");
   return {c, [o] {

@@ -355,7 +355,8 @@ std::vector<SceneEdit> studyEdits(const std::string& name, const std::string& va
   return {{name, value}};  // spacing, h_over_dx, integrator, end_time, or a key path
 }
 
-std::vector<size_t> markParetoFront(std::vector<StudyRow>& rows) {
+std::vector<size_t> markParetoFront(std::vector<StudyRow>& rows, bool cpu) {
+  auto cost = [cpu](const StudyRow& r) { return cpu ? r.cpuSeconds : r.wallSeconds; };
   std::vector<size_t> front;
   for (size_t i = 0; i < rows.size(); ++i) {
     rows[i].pareto = false;
@@ -363,8 +364,8 @@ std::vector<size_t> markParetoFront(std::vector<StudyRow>& rows) {
     bool dominated = false;
     for (size_t j = 0; j < rows.size() && !dominated; ++j) {
       if (j == i || !rows[j].healthy || !rows[j].hasError) continue;
-      const bool le = rows[j].wallSeconds <= rows[i].wallSeconds && rows[j].error <= rows[i].error;
-      const bool lt = rows[j].wallSeconds < rows[i].wallSeconds || rows[j].error < rows[i].error;
+      const bool le = cost(rows[j]) <= cost(rows[i]) && rows[j].error <= rows[i].error;
+      const bool lt = cost(rows[j]) < cost(rows[i]) || rows[j].error < rows[i].error;
       dominated = le && lt;
     }
     if (!dominated) {
@@ -373,7 +374,7 @@ std::vector<size_t> markParetoFront(std::vector<StudyRow>& rows) {
     }
   }
   std::sort(front.begin(), front.end(),
-            [&](size_t a, size_t b) { return rows[a].wallSeconds < rows[b].wallSeconds; });
+            [&](size_t a, size_t b) { return cost(rows[a]) < cost(rows[b]); });
   return front;
 }
 
@@ -454,7 +455,8 @@ void readRunResults(StudyRow& row, const std::string& runDir) {
 }
 
 void writeStudyTables(const std::string& dir, const std::string& scene, const std::string& quantity,
-                      const std::vector<VaryAxis>& axes, const std::vector<StudyRow>& rows) {
+                      const std::vector<VaryAxis>& axes, const std::vector<StudyRow>& rows,
+                      const std::string& cost) {
   std::ofstream csv(fs::path(dir) / "study.csv"), md(fs::path(dir) / "study.md");
   csv << "case";
   for (const auto& a : axes) csv << "," << a.name;
@@ -466,7 +468,8 @@ void writeStudyTables(const std::string& dir, const std::string& scene, const st
             if (r.hasError) return r.errorAgainst;
           return std::string("-");
         }())
-     << ". Pareto front (no other healthy run is both faster and more accurate): **bold**.\n\n";
+     << ". Pareto front (no other healthy run both cheaper in " << (cost == "cpu" ? "CPU" : "wall")
+     << " time and more accurate): **bold**.\n\n";
   md << "| case";
   for (const auto& a : axes) md << " | " << a.name;
   md << " | status | measured | error | wall (s) | CPU (s) | peak RSS (MiB) | particles | steps | "
@@ -515,6 +518,8 @@ std::vector<StudyRow> runStudy(const StudyOptions& o) {
   }
   const YAML::Node base = readSceneYaml(o.scene);
   if (o.out.empty()) throw InputError("--out: give the study's folder");
+  if (o.cost != "wall" && o.cost != "cpu")
+    throw InputError("--cost '" + o.cost + "': expected wall or cpu");
   // The reference: read from the base scene with the --set edits (so --set reference.value=...
   // works), through the scene parser.
   ReferenceSpec reference;
@@ -626,8 +631,8 @@ std::vector<StudyRow> runStudy(const StudyOptions& o) {
     rows.push_back(row);
   }
   assignStudyErrors(rows, reference.hasValue, reference.value);
-  markParetoFront(rows);
-  writeStudyTables(o.out, o.scene, reference.quantity, axes, rows);
+  markParetoFront(rows, o.cost == "cpu");
+  writeStudyTables(o.out, o.scene, reference.quantity, axes, rows, o.cost);
   std::cout << "study:        " << (fs::path(o.out) / "study.csv").string() << ", "
             << (fs::path(o.out) / "study.md").string() << "\n";
   if (!o.noPlot) {
@@ -637,7 +642,8 @@ std::vector<StudyRow> runStudy(const StudyOptions& o) {
     } else {
       const std::vector<std::string> argv = {"/usr/bin/python3", script,
                                              (fs::path(o.out) / "study.csv").string(), "--out",
-                                             (fs::path(o.out) / "study.png").string()};
+                                             (fs::path(o.out) / "study.png").string(), "--cost",
+                                             o.cost};
       const ChildRun p = runChild(argv, (fs::path(o.out) / "plot.log").string());
       if (p.code == 0)
         std::cout << "plot:         " << (fs::path(o.out) / "study.png").string() << "\n";

@@ -100,7 +100,8 @@ struct StudyRow {
 
 /// Marks StudyRow::pareto: the healthy rows with an error that no other healthy row beats in both
 /// wall time and error (<= in both, < in one). Returns the indices of the front by wall time.
-std::vector<size_t> markParetoFront(std::vector<StudyRow>& rows);
+/// `cpu`: the cost is the CPU time instead of the wall time (a loaded machine).
+std::vector<size_t> markParetoFront(std::vector<StudyRow>& rows, bool cpu = false);
 /// The errors: against the closed-form `value` when the scene gives one (hasValue), else against
 /// the finest healthy run (most particles; the first such run in grid order on a tie).
 void assignStudyErrors(std::vector<StudyRow>& rows, bool hasValue, double value);
@@ -113,6 +114,7 @@ struct StudyOptions {
   std::string scene, out, threads;
   std::vector<std::string> vary, sets;
   bool overwrite = false, noPlot = false;
+  std::string cost = "wall";  ///< wall | cpu: the cost of the Pareto front and the plot
   std::string executable;  ///< poresph to run the cases with ("": this program)
 };
 /// The whole study: cases, runs, DIR/study.csv, DIR/study.md, DIR/study.png. Returns the rows.
@@ -120,6 +122,7 @@ struct StudyOptions {
 std::vector<StudyRow> runStudy(const StudyOptions& options);
 /// study.csv and study.md of `rows`.
 void writeStudyTables(const std::string& dir, const std::string& scene, const std::string& quantity,
-                      const std::vector<VaryAxis>& axes, const std::vector<StudyRow>& rows);
+                      const std::vector<VaryAxis>& axes, const std::vector<StudyRow>& rows,
+                      const std::string& cost = "wall");
 
 }  // namespace poresph

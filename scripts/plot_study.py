@@ -3,7 +3,7 @@
 
     scripts/plot_study.py DIR/study.csv --out DIR/study.png [--title TEXT] [--label COLUMNS]
 
-Log-log: one marker per healthy run (error > 0), the Pareto front (no other healthy run both
+Log-log (x: wall time, or CPU time with --cost cpu): one marker per healthy run (error > 0), the Pareto front (no other healthy run both
 faster and more accurate) joined by a line, the reference run (the finest, error 0) marked on
 the bottom axis, unstable or failed runs as red crosses on a shaded band above the plot's
 errors (they have no trustworthy error). Each point is labelled with the varied settings.
@@ -36,8 +36,10 @@ def main():
     ap.add_argument("csv")
     ap.add_argument("--out", required=True)
     ap.add_argument("--title", default="")
+    ap.add_argument("--cost", default="wall", choices=["wall", "cpu"], help="x axis: wall or CPU time")
     ap.add_argument("--label", default="", help="varied columns to label points with (default: all)")
     a = ap.parse_args()
+    cost = "cpu_s" if a.cost == "cpu" else "wall_s"
     with open(a.csv, newline="") as f:
         rows = list(csv.DictReader(f))
     if not rows:
@@ -51,7 +53,7 @@ def main():
     def label(r):
         return ", ".join(f"{r[c]}" for c in varied)
 
-    ok = [r for r in rows if r["healthy"] == "1" and not math.isnan(num(r["error"])) and num(r["wall_s"]) > 0]
+    ok = [r for r in rows if r["healthy"] == "1" and not math.isnan(num(r["error"])) and num(r[cost]) > 0]
     zero = [r for r in rows if r["healthy"] == "1" and r["measured"] and not r["error"]]
     bad = [r for r in rows if r["healthy"] != "1"]
     fig, ax = plt.subplots(figsize=(8.5, 5.5))
@@ -60,27 +62,27 @@ def main():
     lo, hi = min(errs), max(errs)
     ymin, ymax = lo / 3.0, hi * 3.0
     ymax_band = ymax * 10.0
-    walls = [num(r["wall_s"]) for r in rows if num(r["wall_s"]) > 0] or [1.0]
+    walls = [num(r[cost]) for r in rows if num(r[cost]) > 0 and r["healthy"] == "1"] or [1.0]
     xmin, xmax = min(walls) / 1.5, max(walls) * 1.5
     if pos:
-        ax.scatter([num(r["wall_s"]) for r in pos], errs, s=36, c="tab:blue", zorder=3,
+        ax.scatter([num(r[cost]) for r in pos], errs, s=36, c="tab:blue", zorder=3,
                    label="healthy run")
-    front = sorted([r for r in pos if r["pareto"] == "1"], key=lambda r: num(r["wall_s"]))
+    front = sorted([r for r in pos if r["pareto"] == "1"], key=lambda r: num(r[cost]))
     if front:
-        ax.plot([num(r["wall_s"]) for r in front], [num(r["error"]) for r in front], "-o",
+        ax.plot([num(r[cost]) for r in front], [num(r["error"]) for r in front], "-o",
                 color="tab:green", lw=2, ms=9, mfc="none", zorder=4, label="Pareto front")
     for r in pos:
-        ax.annotate(label(r), (num(r["wall_s"]), num(r["error"])), textcoords="offset points",
+        ax.annotate(label(r), (num(r[cost]), num(r["error"])), textcoords="offset points",
                     xytext=(5, 4), fontsize=7)
     for r in zero:
-        ax.scatter([num(r["wall_s"])], [ymin * 1.2], marker="v", s=60, c="k", zorder=3)
-        ax.annotate("reference: " + label(r), (num(r["wall_s"]), ymin * 1.2), textcoords="offset points",
+        ax.scatter([num(r[cost])], [ymin * 1.2], marker="v", s=60, c="k", zorder=3)
+        ax.annotate("reference: " + label(r), (num(r[cost]), ymin * 1.2), textcoords="offset points",
                     xytext=(5, 4), fontsize=7)
     if bad:
         ax.axhspan(ymax, ymax_band, color="tab:red", alpha=0.12, zorder=1)
         ax.text(xmin * 1.05, ymax * 1.3, "unstable / failed (no error)", color="tab:red", fontsize=8)
         for k, r in enumerate(bad):
-            w = num(r["wall_s"])
+            w = num(r[cost])
             w = w if w > 0 else xmin * 1.1
             y = ymax * (2.0 + 5.0 * (k % 3) / 3.0)
             ax.scatter([w], [y], marker="x", s=60, c="tab:red", zorder=3,
@@ -91,7 +93,7 @@ def main():
     ax.set_yscale("log")
     ax.set_xlim(xmin, xmax)
     ax.set_ylim(ymin, ymax_band if bad else ymax)
-    ax.set_xlabel("wall time of the run (s)")
+    ax.set_xlabel(("CPU" if a.cost == "cpu" else "wall") + " time of the run (s)")
     ax.set_ylabel(f"error of {quantity}" + (f" vs {against}" if against else ""))
     ax.set_title(a.title or f"{quantity}: error against cost ({', '.join(varied)})", fontsize=10)
     ax.grid(True, which="both", alpha=0.3)

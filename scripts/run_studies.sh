@@ -15,8 +15,8 @@ exe=build/poresph
 export OMP_NUM_THREADS=1
 study() {  # NAME SCENE ARGS...
   local name=$1 scene=$2; shift 2
-  echo "== $name: poresph study $scene $* --out $out/$name --threads 1"
-  $exe study "$scene" "$@" --out "$out/$name" --threads 1 --overwrite || echo "== $name: exit $?"
+  echo "== $name: poresph study $scene $* --out $out/$name --threads 1 --cost cpu"
+  $exe study "$scene" "$@" --out "$out/$name" --threads 1 --cost cpu --overwrite || echo "== $name: exit $?"
   [ -f "$out/$name/study.png" ] && cp "$out/$name/study.png" "docs/img/study_$name.png"
 }
 for n in "${names[@]}"; do
