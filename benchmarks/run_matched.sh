@@ -15,6 +15,9 @@
 #   DSPH_BIN=path/DualSPHysics5.4CPU_linux64     run DualSPHysics too (see ../shared/benchmarks/README.md)
 #   DSPH_A=path/out_dp0.01/Dam  DSPH_B=path/out_B/Dam   its GenCase outputs of case A and B
 #   DSPH_TMAX=0.004  physical time of a DSPH run (~1e-4 s per step: 0.004 s ~ 40 steps)
+#   SHORT=1          also run each program for ~5 steps (PoreSPH max_steps 5, DSPH tmax 0.0005)
+#                    and print the CPU time per step of the difference (set-up and output cancel:
+#                    the figure to compare on a loaded machine, with THREADS=1)
 set -uo pipefail
 cd "$(dirname "$0")/.."
 BUILD_DIR=${1:-build}
@@ -28,10 +31,19 @@ scene_of() { case $1 in A) echo benchmarks/scenes/dam_break_caseA_cubic.yaml ;;
                          B) echo benchmarks/scenes/dam_break_3d.yaml ;; esac; }
 dsph_case_of() { case $1 in A) echo "${DSPH_A:-}" ;; B) echo "${DSPH_B:-}" ;; esac; }
 
+cpu_of() {  # command...: prints user + sys seconds
+  { /usr/bin/time -f "CPUTIME %U %S" "$@" > /dev/null 2>&1 ; } 2>&1 | awk '/^CPUTIME/ { print $2 + $3 }'
+}
+
 run_poresph() {  # case threads rep
   local scene tmp out log np nf load0 load1 cpu
   scene=$(scene_of "$1")
   tmp=$(mktemp -d)
+  if [ -n "${SHORT:-}" ]; then
+    sed -e "s/^max_steps:.*/max_steps: 5/" -e "s/^end_time:.*/end_time: 10.0/" "$scene" > "$tmp/short.yaml"
+    local c5 cN
+    c5=$(cpu_of "$PORESPH" run "$tmp/short.yaml" --out "$tmp/o5" --force --threads "$2")
+  fi
   sed -e "s/^max_steps:.*/max_steps: $STEPS/" -e "s/^end_time:.*/end_time: 10.0/" "$scene" > "$tmp/scene.yaml"
   grep -q '^max_steps:' "$tmp/scene.yaml" || echo "max_steps: $STEPS" >> "$tmp/scene.yaml"
   np=$("$PORESPH" info "$tmp/scene.yaml" | awk '/^particles:/ { print $2 }')
@@ -52,6 +64,11 @@ run_poresph() {  # case threads rep
           r = (s - s0) / (w - w0)
           printf "rep %d case %s poresph threads %d: %.4f s/step, %.3g particle-steps/s (%d particles), %.3g fluid particle-steps/s (%d), %.3g s simulated per wall s, CPU %.4f s/step (whole run / %d steps), load %s -> %s\n",
                  rep, c, t, 1 / r, r * np, np, r * nf, nf, (tt - t0) / (w - w0), cpu / s, s, l0, l1 }'
+  if [ -n "${SHORT:-}" ]; then
+    cN=$(echo "$log" | awk '/^CPUTIME/ { print $2 + $3 }')
+    awk -v a="$c5" -v b="$cN" -v n="$STEPS" -v c="$1" -v t="$2" -v rep="$3" 'BEGIN {
+      printf "rep %d case %s poresph threads %d: CPU %.4f s/step (difference of %d- and 5-step runs)\n", rep, c, t, (b - a) / (n - 5), n }'
+  fi
   rm -rf "$tmp"
 }
 
@@ -66,19 +83,25 @@ run_dsph() {  # case threads rep
   log=$( { /usr/bin/time -f "CPUTIME %U %S" "$DSPH_BIN" -cpu -ompthreads:"$2" $extra "$dcase" "$out" \
            -tmax:"$DSPH_TMAX" -tout:"$DSPH_TMAX" -sv:none -svtimers:1 ; } 2>&1)
   load1=$(cut -d' ' -f1 /proc/loadavg)
-  local np nf
-  np=$(awk '/^Total particles:|Particles:/ { print; exit }' "$out/Run.out" 2>/dev/null)
+  if [ -n "${SHORT:-}" ]; then
+    local c5 o5
+    o5=$(mktemp -d)
+    c5=$(cpu_of "$DSPH_BIN" -cpu -ompthreads:"$2" $extra "$dcase" "$o5" -tmax:0.0005 -tout:0.0005 -sv:none)
+    local s5
+    s5=$(awk '/^Steps of simulation/ { split($0, a, ":"); print a[2] + 0 }' "$o5/Run.out")
+    rm -rf "$o5"
+  fi
   { echo "$log" | grep CPUTIME; cat "$out/Run.out"; } | awk -v c="$1" -v t="$2" -v rep="$3" -v l0="$load0" -v l1="$load1" -v tm="$DSPH_TMAX" '
     /^CPUTIME/ { cpu = $2 + $3 }
     /Simulation Runtime/ { for (i = 1; i <= NF; ++i) if ($i + 0 > 0) { rt = $i + 0; break } }
-    /Steps of simulation|Steps per second/ { }
-    /^Particles of simulation \(initial\)/ { split($0, a, ":"); np = a[2] + 0 }
-    /^Fluid particles/ { split($0, a, ":"); nf = a[2] + 0 }
-    /Number of steps|Steps of simulation/ { split($0, a, ":"); steps = a[2] + 0 }
+    /^Particles of simulation \(initial\)/ { split($0, a, ":"); gsub(",", "", a[2]); np = a[2] + 0 }
+    /^Total particles:.*fluid=/ { f = $0; sub(/.*fluid=/, "", f); nf = f + 0 }
+    /^Steps of simulation/ { split($0, a, ":"); steps = a[2] + 0 }
     END { if (!(steps > 0) || !(rt > 0)) { print "case " c " dsph threads " t ": no Run.out figures"; exit 0 }
           r = steps / rt
           printf "rep %d case %s dsph    threads %d: %.4f s/step, %.3g particle-steps/s (%d particles), %.3g fluid particle-steps/s (%d), %.3g s simulated per wall s, CPU %.4f s/step (whole run / %d steps), load %s -> %s\n",
-                 rep, c, t, 1 / r, r * np, np, r * nf, nf, tm / rt, cpu / steps, steps, l0, l1 }'
+                 rep, c, t, 1 / r, r * np, np, r * nf, nf, tm / rt, cpu / steps, steps, l0, l1
+          if (c5 != "") printf "rep %d case %s dsph    threads %d: CPU %.4f s/step (difference of %d- and %d-step runs)\n", rep, c, t, (cpu - c5) / (steps - s5), steps, s5 }' c5="${c5:-}" s5="${s5:-0}"
   rm -rf "$out"
 }
 

@@ -59,6 +59,9 @@ struct FluidPairSide {
 template <int D>
 struct BoundaryPairSide {
   double p = 0.0, volume = 0.0;
+  /// densityOf(a's fluid, p) when the caller has it (computed once per boundary particle);
+  /// 0: computed here, per pair (the same value).
+  double rho = 0.0;
   Vec<D> v = Vec<D>::Zero(), vNoSlip = Vec<D>::Zero();
 };
 
@@ -80,7 +83,7 @@ FluidPairResult<D> fluidBoundaryPair(const Vec<D>& r, double F, const FluidPairS
   const FluidProperties& fa = *a.props;
   const bool mirror = model == BoundaryModel::Mirror;
   const double pb = mirror ? a.p : b.p;
-  const double rhob = mirror ? a.rho : densityOf(fa, b.p);  // the fluid a at the boundary's p
+  const double rhob = mirror ? a.rho : (b.rho > 0.0 ? b.rho : densityOf(fa, b.p));  // the fluid a at the boundary's p
   const double mb = rhob * b.volume;
   const double mua = fa.viscosity, mub = mua;
   const double muBar =

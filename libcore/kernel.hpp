@@ -51,63 +51,19 @@ class Kernel {
   Vec<D> gradient(const Vec<D>& rab) const {
     return rab * F(rab.norm());
   }
+  /// Calls f(FixedKernel<type, D>) with this kernel's type fixed at compile time, so that a
+  /// pair loop written as a generic lambda pays one switch per loop instead of one per pair.
+  /// D must be this kernel's dimension. The values equal value() and F() bit for bit.
+  template <int D, class Fn>
+  decltype(auto) withFixedType(Fn&& f) const;
 
  private:
+  template <KernelType K, int D>
+  friend struct FixedKernel;
   // w(q): dimensionless shape; W = norm_ * w(q) with norm_ = sigma_d / h^d.
-  double shape(double q) const {
-    switch (type_) {
-      case KernelType::CubicSpline:  // Eq. 2.11
-        if (q < 1.0) return 2.0 / 3.0 - q * q + 0.5 * q * q * q;
-        if (q < 2.0) { const double t = 2.0 - q; return t * t * t / 6.0; }
-        return 0.0;
-      case KernelType::Gaussian:  // Eq. 2.10, truncated
-        return q < qMax_ ? std::exp(-q * q) : 0.0;
-      case KernelType::WendlandC2:
-        if (q < 2.0) {
-          const double t = 1.0 - 0.5 * q;
-          if (dim_ == 1) return t * t * t * (1.5 * q + 1.0);
-          return t * t * t * t * (2.0 * q + 1.0);
-        }
-        return 0.0;
-      case KernelType::QuinticSpline: {
-        if (q >= 3.0) return 0.0;
-        const double a = 3.0 - q, b = 2.0 - q, c = 1.0 - q;
-        double w = a * a * a * a * a;
-        if (q < 2.0) w -= 6.0 * b * b * b * b * b;
-        if (q < 1.0) w += 15.0 * c * c * c * c * c;
-        return w;
-      }
-    }
-    return 0.0;
-  }
+  double shape(double q) const;
   // (1/q) dw/dq, finite at q = 0.
-  double shapeDerivativeOverQ(double q) const {
-    switch (type_) {
-      case KernelType::CubicSpline:
-        if (q < 1.0) return -2.0 + 1.5 * q;
-        if (q < 2.0) { const double t = 2.0 - q; return -0.5 * t * t / q; }
-        return 0.0;
-      case KernelType::Gaussian:
-        return q < qMax_ ? -2.0 * std::exp(-q * q) : 0.0;
-      case KernelType::WendlandC2:
-        if (q < 2.0) {
-          const double t = 1.0 - 0.5 * q;
-          if (dim_ == 1) return -3.0 * t * t;
-          return -5.0 * t * t * t;
-        }
-        return 0.0;
-      case KernelType::QuinticSpline: {
-        if (q >= 3.0) return 0.0;
-        if (q < 1e-8) return -120.0;  // limit of w'(q)/q = w''(0)
-        const double a = 3.0 - q, b = 2.0 - q, c = 1.0 - q;
-        double d = -5.0 * a * a * a * a;
-        if (q < 2.0) d += 30.0 * b * b * b * b;
-        if (q < 1.0) d -= 75.0 * c * c * c * c;
-        return d / q;
-      }
-    }
-    return 0.0;
-  }
+  double shapeDerivativeOverQ(double q) const;
 
   KernelType type_ = KernelType::CubicSpline;
   int dim_ = 3;
@@ -117,5 +73,115 @@ class Kernel {
   double support_ = 2.0;
   double qMax_ = 2.0;
 };
+
+/// The dimensionless shapes w(q) and (1/q) dw/dq with the kernel type fixed at compile time
+/// (D matters only for Wendland's 1D form). Written once: Kernel's run-time switch calls them.
+template <KernelType K, int D>
+struct KernelShape {
+  static double w(double q, double qMax) {
+    if constexpr (K == KernelType::CubicSpline) {  // Eq. 2.11
+      (void)qMax;
+      if (q < 1.0) return 2.0 / 3.0 - q * q + 0.5 * q * q * q;
+      if (q < 2.0) { const double t = 2.0 - q; return t * t * t / 6.0; }
+      return 0.0;
+    } else if constexpr (K == KernelType::Gaussian) {  // Eq. 2.10, truncated
+      return q < qMax ? std::exp(-q * q) : 0.0;
+    } else if constexpr (K == KernelType::WendlandC2) {
+      (void)qMax;
+      if (q < 2.0) {
+        const double t = 1.0 - 0.5 * q;
+        if (D == 1) return t * t * t * (1.5 * q + 1.0);
+        return t * t * t * t * (2.0 * q + 1.0);
+      }
+      return 0.0;
+    } else {
+      (void)qMax;
+      if (q >= 3.0) return 0.0;
+      const double a = 3.0 - q, b = 2.0 - q, c = 1.0 - q;
+      double w = a * a * a * a * a;
+      if (q < 2.0) w -= 6.0 * b * b * b * b * b;
+      if (q < 1.0) w += 15.0 * c * c * c * c * c;
+      return w;
+    }
+  }
+  static double dOverQ(double q, double qMax) {
+    if constexpr (K == KernelType::CubicSpline) {
+      (void)qMax;
+      if (q < 1.0) return -2.0 + 1.5 * q;
+      if (q < 2.0) { const double t = 2.0 - q; return -0.5 * t * t / q; }
+      return 0.0;
+    } else if constexpr (K == KernelType::Gaussian) {
+      return q < qMax ? -2.0 * std::exp(-q * q) : 0.0;
+    } else if constexpr (K == KernelType::WendlandC2) {
+      (void)qMax;
+      if (q < 2.0) {
+        const double t = 1.0 - 0.5 * q;
+        if (D == 1) return -3.0 * t * t;
+        return -5.0 * t * t * t;
+      }
+      return 0.0;
+    } else {
+      (void)qMax;
+      if (q >= 3.0) return 0.0;
+      if (q < 1e-8) return -120.0;  // limit of w'(q)/q = w''(0)
+      const double a = 3.0 - q, b = 2.0 - q, c = 1.0 - q;
+      double d = -5.0 * a * a * a * a;
+      if (q < 2.0) d += 30.0 * b * b * b * b;
+      if (q < 1.0) d -= 75.0 * c * c * c * c;
+      return d / q;
+    }
+  }
+};
+
+/// A kernel with its type fixed at compile time (Kernel::withFixedType): value() and F() equal
+/// Kernel's bit for bit.
+template <KernelType K, int D>
+struct FixedKernel {
+  double invH = 1.0, norm = 1.0, qMax = 2.0, support = 2.0;
+  explicit FixedKernel(const Kernel& k)
+      : invH(k.invH_), norm(k.norm_), qMax(k.qMax_), support(k.support_) {}
+  double value(double r) const { return norm * KernelShape<K, D>::w(r * invH, qMax); }
+  double F(double r) const {
+    const double q = r * invH;
+    return norm * invH * invH * KernelShape<K, D>::dOverQ(q, qMax);
+  }
+};
+
+inline double Kernel::shape(double q) const {
+  switch (type_) {
+    case KernelType::CubicSpline: return KernelShape<KernelType::CubicSpline, 3>::w(q, qMax_);
+    case KernelType::Gaussian: return KernelShape<KernelType::Gaussian, 3>::w(q, qMax_);
+    case KernelType::WendlandC2:
+      return dim_ == 1 ? KernelShape<KernelType::WendlandC2, 1>::w(q, qMax_)
+                       : KernelShape<KernelType::WendlandC2, 3>::w(q, qMax_);
+    case KernelType::QuinticSpline: return KernelShape<KernelType::QuinticSpline, 3>::w(q, qMax_);
+  }
+  return 0.0;
+}
+
+inline double Kernel::shapeDerivativeOverQ(double q) const {
+  switch (type_) {
+    case KernelType::CubicSpline: return KernelShape<KernelType::CubicSpline, 3>::dOverQ(q, qMax_);
+    case KernelType::Gaussian: return KernelShape<KernelType::Gaussian, 3>::dOverQ(q, qMax_);
+    case KernelType::WendlandC2:
+      return dim_ == 1 ? KernelShape<KernelType::WendlandC2, 1>::dOverQ(q, qMax_)
+                       : KernelShape<KernelType::WendlandC2, 3>::dOverQ(q, qMax_);
+    case KernelType::QuinticSpline:
+      return KernelShape<KernelType::QuinticSpline, 3>::dOverQ(q, qMax_);
+  }
+  return 0.0;
+}
+
+template <int D, class Fn>
+decltype(auto) Kernel::withFixedType(Fn&& f) const {
+  if (D != dim_) throw std::logic_error("Kernel::withFixedType: dimension differs from the kernel's");
+  switch (type_) {
+    case KernelType::Gaussian: return f(FixedKernel<KernelType::Gaussian, D>(*this));
+    case KernelType::WendlandC2: return f(FixedKernel<KernelType::WendlandC2, D>(*this));
+    case KernelType::QuinticSpline: return f(FixedKernel<KernelType::QuinticSpline, D>(*this));
+    case KernelType::CubicSpline: break;
+  }
+  return f(FixedKernel<KernelType::CubicSpline, D>(*this));
+}
 
 }  // namespace poresph

@@ -709,6 +709,30 @@ void FluidModule::forcesD(Simulation& sim) {
   const double* visc = normaliseViscosity_ ? st.data(viscousFactor) : nullptr;
   const FluidPairSettings pairSettings = sim.fluidPairSettings;
 
+  // The pair loop with the kernel type fixed at compile time (one switch per loop, not per
+  // pair), and per-particle quantities computed once instead of once per pair: volumes
+  // V_b = m_b / rho_b and, with one fluid material, the density the fluid has at a boundary
+  // particle's extrapolated pressure (Tait: a pow per wall pair otherwise). Same values bit for bit.
+  const Index nAll = st.size();
+  if (vol_.size() < static_cast<size_t>(nAll)) vol_.resize(static_cast<size_t>(nAll));
+  const MaterialData* single = nullptr;
+  {
+    int fluids = 0;
+    for (int id = 0; id < nm; ++id)
+      if (md[id].owned && md[id].fluid) { single = &md[id]; ++fluids; }
+    if (fluids != 1) single = nullptr;
+  }
+  if (single && wallRho_.size() < static_cast<size_t>(nAll)) wallRho_.resize(static_cast<size_t>(nAll));
+  double* volW = vol_.data();
+  double* wallRhoW = single ? wallRho_.data() : nullptr;
+#pragma omp parallel for schedule(static)
+  for (Index j = 0; j < nAll; ++j) {
+    volW[j] = m[j] / rho[j];
+    if (wallRhoW) wallRhoW[j] = ph[j] == kPhaseFluid ? 0.0 : densityOf(*single, p[j]);
+  }
+  const double* vol = volW;
+  const double* wallRho = wallRhoW;
+  W.withFixedType<D>([&](const auto K) {
 #pragma omp parallel for schedule(dynamic, 256)
   for (Index i = 0; i < n; ++i) {
     if (nextFactor) nextFactor[i] = 1.0;
@@ -738,12 +762,12 @@ void FluidModule::forcesD(Simulation& sim) {
       const Index j = nl.index[static_cast<size_t>(k)];
       Vec<D> r;
       for (int a = 0; a < D; ++a) r[a] = x[i * D + a] - x[j * D + a];
-      const double F = W.F(r.norm());
+      const double F = K.F(r.norm());
       if (F == 0.0) continue;
       const Vec<D> gradW = F * r;
       Vec<D> vb;
       for (int a = 0; a < D; ++a) vb[a] = v[j * D + a];
-      moment -= (m[j] / rho[j]) * r.squaredNorm() * F;  // for the next evaluation's factor
+      moment -= vol[j] * r.squaredNorm() * F;  // for the next evaluation's factor
       if (shiftOn) gradC += (m[j] / rho[j]) * gradW;  // grad of sum_b V_b W_ab (all neighbours)
       if (tvOn) {
         const double Vb = m[j] / rho[j];
@@ -779,7 +803,8 @@ void FluidModule::forcesD(Simulation& sim) {
         // Fixed boundary: extrapolated pressure, no-slip velocity (the shared pair terms).
         BoundaryPairSide<D> sideB;
         sideB.p = p[j];
-        sideB.volume = m[j] / rho[j];
+        sideB.volume = vol[j];
+        sideB.rho = wallRho ? wallRho[j] : 0.0;
         sideB.v = vb;
         for (int a = 0; a < D; ++a) sideB.vNoSlip[a] = vw[j * D + a];
         const FluidPairResult<D> t = fluidBoundaryPair<D>(r, F, sideA, sideB, pairSettings);
@@ -793,12 +818,12 @@ void FluidModule::forcesD(Simulation& sim) {
       const int idb = mt[j];
       const double rhob = rho[j], pb = p[j];
       const double mub = (idb >= 0 && idb < nm) ? md[idb].viscosity : mua;
-      const double Vb = m[j] / rhob;
+      const double Vb = vol[j];
       if (densityDiffusion_ > 0.0 && idb == ida)  // Molteni-Colagrossi density diffusion
         diff += 2.0 * Vb * (rhoa - rhob) * F;
       // XSPH (2.66) within one material: averaging across a density jump would drag the light
       // phase with the heavy one.
-      if (xsphOn && idb == ida) dvX += (2.0 * m[j] / (rhoa + rhob) * W.value(r.norm())) * (vb - va);
+      if (xsphOn && idb == ida) dvX += (2.0 * m[j] / (rhoa + rhob) * K.value(r.norm())) * (vb - va);
       const double mb = m[j];
       const Vec<D> vab = va - vb;
       const double fab = 0.5 * (fa + (visc ? visc[j] : 1.0));
@@ -865,6 +890,7 @@ void FluidModule::forcesD(Simulation& sim) {
       for (int a = 0; a < D; ++a) corrRate[i * D + a] += dv[a];
     }
   }
+  });
   if (nextFactor) {  // this evaluation's factors, for the next one (see above)
     std::memcpy(st.data(viscousFactor), nextFactor, sizeof(double) * static_cast<size_t>(n));
     st.refreshGhosts(viscousFactor);

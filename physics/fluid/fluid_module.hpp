@@ -109,6 +109,9 @@ class FluidModule : public Module {
   template <int D> void forcesD(Simulation& sim);
 
   std::vector<MaterialData> mat_;  // by material id
+  // Scratch of the force loop (sized once, no allocation in the time loop): V = m / rho of every
+  // particle, and the single fluid's density at each boundary particle's pressure.
+  std::vector<double> vol_, wallRho_;
   std::vector<double> gravity_;
   std::vector<BodyForce> bodyForces_;
   bool summation_ = false;
