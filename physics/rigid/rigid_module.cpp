@@ -81,6 +81,11 @@ void RigidModule::configure(Simulation& sim, const std::vector<const Material*>&
     }
     r.rotate = p.boolean("rotate", true);
     r.damping = p.real("damping", 0.0, Range::nonNegative());
+    if (p.has("bonded")) {
+      const std::string b = p.choice("bonded", "false", {"false", "true", "slip"});
+      r.bonded = b != "false";
+      r.bondSlip = b == "slip";
+    }
     if (p.has("angular_velocity")) {
       if (d == 1) p.fail("angular_velocity", "a 1D body does not rotate");
       const std::vector<double> w = p.reals("angular_velocity", d == 2 ? 1u : 3u);
@@ -104,6 +109,10 @@ void RigidModule::configure(Simulation& sim, const std::vector<const Material*>&
       r.plateRampTime = pl.real("ramp_time", 0.0, Range::nonNegative());
       pl.finish();
       if (r.fixed) p.fail("plate", "a plate moves to carry its load: it cannot also be fixed");
+    }
+    if (r.bondSlip && !r.plate) {
+      p.fail("bonded", "'slip' (bonded along the normal only) needs a plate: its direction is the "
+                       "normal; use true for a body bonded in every direction");
       r.rotate = false;
     }
     if (d == 1) r.rotate = false;
@@ -135,6 +144,208 @@ void RigidModule::configure(Simulation& sim, const std::vector<const Material*>&
   ParticleStore& st = sim.store;
   body_ = st.addInt("body", 1, kFieldDefault, "rigid");
   offset_ = st.addReal("body_offset", d, kFieldCheckpoint, "rigid");
+  // Bonded rigid-solid interfaces only where a material asks for them.
+  bonds_ = std::any_of(mats_.begin(), mats_.end(), [](const RigidMaterial& r) { return r.bonded; });
+  if (bonds_) {
+    bondBody_ = st.addInt("bond_body", 1, kFieldCheckpoint, "rigid");
+    bondAnchor_ = st.addReal("bond_anchor", d, kFieldCheckpoint, "rigid");
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// bonded interfaces: the first layer of solid particles around a bonded body
+// ---------------------------------------------------------------------------------------------
+void RigidModule::initialiseBonds(Simulation& sim) {
+  ParticleStore& st = sim.store;
+  const int d = dim_;
+  const Index n = st.realCount();
+  const double* x = st.data(st.position());
+  const std::int32_t* ph = st.data(st.phase());
+  const std::int32_t* body = st.data(body_);
+  std::int32_t* bb = st.data(bondBody_);
+  double* anchor = st.data(bondAnchor_);
+  const double dx = sim.spacing;
+  const Domain& dom = sim.domain;
+  // Cells of side dx holding the particles of bonded bodies.
+  auto cellOf = [&](const double* p) {
+    std::array<long long, 3> c{0, 0, 0};
+    for (int a = 0; a < d; ++a)
+      c[static_cast<size_t>(a)] =
+          static_cast<long long>(std::floor((p[a] - dom.lo[static_cast<size_t>(a)]) / dx));
+    return c;
+  };
+  auto key = [](const std::array<long long, 3>& c) {
+    return static_cast<unsigned long long>(c[0] & 0x1FFFFF) |
+           (static_cast<unsigned long long>(c[1] & 0x1FFFFF) << 21) |
+           (static_cast<unsigned long long>(c[2] & 0x1FFFFF) << 42);
+  };
+  std::unordered_multimap<unsigned long long, Index> cells;
+  for (Index j = 0; j < n; ++j)
+    if (body[j] >= 0 && materialOf(bodies_[static_cast<size_t>(body[j])].material)->bonded)
+      cells.emplace(key(cellOf(x + j * d)), j);
+  const double reach = 1.5 * dx;  // first layer, concave staircase corners included
+  std::vector<rigid::M3> R(bodies_.size());
+  for (size_t b = 0; b < bodies_.size(); ++b) R[b] = bodies_[b].state.R();
+  maxBondModulus_ = 0.0;
+  for (Index i = 0; i < n; ++i) {
+    bb[i] = -1;
+    for (int a = 0; a < d; ++a) anchor[i * d + a] = 0.0;
+    if (ph[i] != kPhaseSolid) continue;
+    const std::array<long long, 3> c = cellOf(x + i * d);
+    double best = reach * reach;
+    Index nearest = -1;
+    const int span = 2;
+    for (int ox = -span; ox <= span; ++ox)
+      for (int oy = (d > 1 ? -span : 0); oy <= (d > 1 ? span : 0); ++oy)
+        for (int oz = (d > 2 ? -span : 0); oz <= (d > 2 ? span : 0); ++oz) {
+          const auto range = cells.equal_range(key({c[0] + ox, c[1] + oy, c[2] + oz}));
+          for (auto it = range.first; it != range.second; ++it) {
+            const Index j = it->second;
+            double r2 = 0.0;
+            for (int a = 0; a < d; ++a) r2 += (x[i * d + a] - x[j * d + a]) * (x[i * d + a] - x[j * d + a]);
+            if (r2 < best) {
+              best = r2;
+              nearest = j;
+            }
+          }
+        }
+    if (nearest < 0) continue;
+    const int b = body[nearest];
+    const RigidBody& B = bodies_[static_cast<size_t>(b)];
+    bb[i] = b;
+    V3 r = V3::Zero();
+    for (int a = 0; a < d; ++a) r[a] = x[i * d + a] - B.state.X[a];
+    const V3 rb = R[static_cast<size_t>(b)].transpose() * r;
+    for (int a = 0; a < d; ++a) anchor[i * d + a] = rb[a];
+    const double k = std::max(materialOf(B.material)->contactModulus,
+                              solidModulus_[static_cast<size_t>(st.data(st.material())[i])]);
+    maxBondModulus_ = std::max(maxBondModulus_, k);
+  }
+  rot_.assign(bodies_.size(), rigid::M3::Identity());
+  place_.assign(bodies_.size(), V3::Zero());
+  bondPartial_.assign(static_cast<size_t>(std::max(1, omp_get_max_threads())) * bodies_.size() * 12,
+                      0.0);
+}
+
+rigid::V3 RigidModule::bondForceOn(const Simulation& sim, Index i) const {
+  V3 out = V3::Zero();
+  if (!bonds_ || sim.store.data(bondBody_)[i] < 0) return out;
+  dispatchDimension(dim_, [&](auto dc) {
+    constexpr int D = decltype(dc)::value;
+    Vec<D> dvec;
+    const Vec<D> f = bondForce<D>(sim, i, sim.store.data(sim.store.position()),
+                                  sim.store.data(sim.store.material()), dvec);
+    for (int a = 0; a < D; ++a) out[a] = f[a];
+  });
+  return out;
+}
+
+template <int D>
+void RigidModule::bodyPlacement(const Simulation& sim) {
+  const ParticleStore& st = sim.store;
+  const Index n = st.realCount();
+  const double* x = st.data(st.position());
+  const double* m = st.data(st.mass());
+  const std::int32_t* body = st.data(body_);
+  const double* off = st.data(offset_);
+  const Domain& dom = sim.domain;
+  const size_t nb = bodies_.size();
+  const int threads = std::max(1, omp_get_max_threads());
+  if (bondPartial_.size() < static_cast<size_t>(threads) * nb * 12)
+    bondPartial_.assign(static_cast<size_t>(threads) * nb * 12, 0.0);
+  std::fill(bondPartial_.begin(), bondPartial_.end(), 0.0);
+  double* part = bondPartial_.data();
+#pragma omp parallel num_threads(threads)
+  {
+    double* mine = part + static_cast<size_t>(omp_get_thread_num()) * nb * 12;
+#pragma omp for schedule(static)
+    for (Index i = 0; i < n; ++i) {
+      const int b = body[i];
+      if (b < 0) continue;
+      const V3& X = bodies_[static_cast<size_t>(b)].state.X;
+      double* s = mine + static_cast<size_t>(b) * 12;
+      for (int a = 0; a < D; ++a) {
+        double d = x[i * D + a] - X[a];
+        if (dom.periodic[static_cast<size_t>(a)]) {
+          const double L = dom.length(a);
+          d -= L * std::round(d / L);
+        }
+        s[a] += m[i] * d;
+        for (int c = 0; c < D; ++c) s[3 + 3 * a + c] += m[i] * d * off[i * D + c];
+      }
+    }
+  }
+  for (size_t b = 0; b < nb; ++b) {
+    const RigidBody& B = bodies_[b];
+    V3 mr = V3::Zero();
+    rigid::M3 A = rigid::M3::Zero();
+    for (int t = 0; t < threads; ++t) {
+      const double* s = part + (static_cast<size_t>(t) * nb + b) * 12;
+      for (int a = 0; a < 3; ++a) mr[a] += s[a];
+      for (int a = 0; a < 9; ++a) A(a / 3, a % 3) += s[3 + a];
+    }
+    const V3 shift = mr / B.state.mass;
+    // sum m (x - Xc) r_b^T = sum m (x - X) r_b^T - shift (sum m r_b)^T, and sum m r_b = 0
+    place_[b] = B.state.X + shift;
+    if (!materialOf(B.material)->rotate || D == 1) {
+      rot_[b] = B.state.R();
+      continue;
+    }
+    if (D == 2) {
+      const double c = A(0, 0) + A(1, 1), sn = A(1, 0) - A(0, 1), r = std::hypot(c, sn);
+      rot_[b] = rigid::M3::Identity();
+      if (r > 0.0) {
+        rot_[b](0, 0) = c / r;
+        rot_[b](0, 1) = -sn / r;
+        rot_[b](1, 0) = sn / r;
+        rot_[b](1, 1) = c / r;
+      }
+    } else {
+      Eigen::JacobiSVD<rigid::M3> svd(A, Eigen::ComputeFullU | Eigen::ComputeFullV);
+      rigid::M3 Dg = rigid::M3::Identity();
+      if ((svd.matrixU() * svd.matrixV().transpose()).determinant() < 0.0) Dg(2, 2) = -1.0;
+      rot_[b] = svd.matrixU() * Dg * svd.matrixV().transpose();
+    }
+  }
+}
+
+template <int D>
+Vec<D> RigidModule::bondForce(const Simulation& sim, Index i, const double* x,
+                              const std::int32_t* mt, Vec<D>& dvec) const {
+  const ParticleStore& st = sim.store;
+  const int b = st.data(bondBody_)[i];
+  const RigidBody& B = bodies_[static_cast<size_t>(b)];
+  const double* anchor = st.data(bondAnchor_);
+  V3 rb = V3::Zero();
+  for (int a = 0; a < D; ++a) rb[a] = anchor[i * D + a];
+  const V3 r = rot_[static_cast<size_t>(b)] * rb;
+  const V3& Xc = place_[static_cast<size_t>(b)];
+  const Domain& dom = sim.domain;
+  for (int a = 0; a < D; ++a) {
+    double dd = x[i * D + a] - Xc[a] - r[a];
+    if (dom.periodic[static_cast<size_t>(a)]) {
+      const double L = dom.length(a);
+      dd -= L * std::round(dd / L);
+    }
+    dvec[a] = dd;
+  }
+  // Stiffness 2 k dx^(D-2): the half layer (dx / 2 thick, area dx^(D-1)) between the particle
+  // and the interface, of modulus k = max(body's contact_modulus, the solid's rho0 c^2, A.17);
+  // the same per-pair stiffness as the linearised A.18 repulsion of equal masses, times two.
+  const double k = std::max(materialOf(B.material)->contactModulus,
+                            solidModulus_[static_cast<size_t>(mt[i])]);
+  double area = 1.0;
+  for (int c = 2; c < D; ++c) area *= sim.spacing;
+  if (D == 1) area = 1.0 / sim.spacing;
+  const RigidMaterial& rm = *materialOf(B.material);
+  if (rm.bondSlip) {  // along the plate's direction only: the face slides along the plate
+    double dn = 0.0;
+    for (int a = 0; a < D; ++a) dn += dvec[a] * rm.plateDirection[static_cast<size_t>(a)];
+    Vec<D> f;
+    for (int a = 0; a < D; ++a) f[a] = -(2.0 * k * area) * dn * rm.plateDirection[static_cast<size_t>(a)];
+    return f;
+  }
+  return -(2.0 * k * area) * dvec;
 }
 
 const RigidMaterial* RigidModule::materialOf(int id) const {
@@ -361,6 +572,7 @@ void RigidModule::initialise(Simulation& sim) {
     viscousFactor_ = st.has("viscous_factor") ? st.real("viscous_factor") : RealField{};
     densityRate_ = st.has("density_rate") ? st.real("density_rate") : RealField{};
   }
+  if (bonds_) initialiseBonds(sim);
   threads_ = std::max(1, omp_get_max_threads());
   partial_.assign(static_cast<size_t>(threads_) * bodies_.size() * 9, 0.0);
 }
@@ -475,6 +687,8 @@ void RigidModule::interfacesD(Simulation& sim) {
   double* drho = densityRate_.valid() ? st.data(densityRate_) : nullptr;
   const FluidPairSettings settings = sim.fluidPairSettings;
   const BoundaryModel model = fluidModel_;
+  const std::int32_t* bondBody = bonds_ ? st.data(bondBody_) : nullptr;
+  if (bonds_) bodyPlacement<D>(sim);
 
   auto isFluid = [&](Index i) {
     return ph[i] == kPhaseFluid && mats[static_cast<size_t>(mt[i])].fluid.valid();
@@ -508,9 +722,15 @@ void RigidModule::interfacesD(Simulation& sim) {
     } else if (phi == kPhaseSolid) {
       if (mo[i] == kMotionFixed) continue;
       Vec<D> f = Vec<D>::Zero();
+      const int bonded = bondBody ? bondBody[i] : -1;
+      if (bonded >= 0) {
+        Vec<D> dvec;
+        f += bondForce<D>(sim, i, x, mt, dvec);
+      }
       for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
         const Index j = nl.index[static_cast<size_t>(k)];
         if (ph[j] != kPhaseRigid) continue;
+        if (body[j] == bonded) continue;  // the bond replaces the contact with its own body
         Vec<D> r;
         for (int c = 0; c < D; ++c) r[c] = x[i * D + c] - x[j * D + c];
         const double dist = r.norm();
@@ -583,6 +803,9 @@ void RigidModule::constraintsD(Simulation& sim) {
   const Domain& dom = sim.domain;
   const size_t nb = bodies_.size();
   const int threads = threads_;
+  const std::int32_t* bondBody = bonds_ ? st.data(bondBody_) : nullptr;
+  const std::int32_t* mt = st.data(st.material());
+  // bonds: the placement the interfaces() stage found (the body has not moved since)
   std::fill(partial_.begin(), partial_.end(), 0.0);
   double* part = partial_.data();
   // Lever arm of particle i about the body's centre of mass at the start of the step (minimal
@@ -604,6 +827,23 @@ void RigidModule::constraintsD(Simulation& sim) {
     double* mine = part + static_cast<size_t>(omp_get_thread_num()) * nb * 9;
 #pragma omp for schedule(static)
     for (Index i = 0; i < n; ++i) {
+      if (bondBody && bondBody[i] >= 0) {
+        // reaction of a bond on its body, at the anchor point (A.6, action = reaction)
+        const int bb = bondBody[i];
+        Vec<D> dvec;
+        const Vec<D> fs = bondForce<D>(sim, i, x, mt, dvec);
+        V3 f = V3::Zero(), r = lever(i, bodies_[static_cast<size_t>(bb)].state.X);
+        for (int a = 0; a < D; ++a) {
+          f[a] = -fs[a];
+          r[a] -= dvec[a];
+        }
+        const V3 t = r.cross(f);
+        double* s = mine + static_cast<size_t>(bb) * 9;
+        for (int a = 0; a < 3; ++a) {
+          s[a] += f[a];
+          s[6 + a] += t[a];
+        }
+      }
       const int b = body[i];
       if (b < 0) continue;
       const V3 r = lever(i, bodies_[static_cast<size_t>(b)].state.X);
@@ -794,6 +1034,10 @@ double RigidModule::timeStepLimit(const Simulation& sim) const {
   // in a contact (rigid or elastic).
   if (maxContactModulus_ > 0.0)
     dt = std::min(dt, 0.25 * h / std::sqrt(maxContactModulus_ / minRigidDensity_));
+  // Bonds: a solid particle of mass rho dx^D on a spring 2 k dx^(D-2) rings at
+  // omega = sqrt(2 k / rho) / dx; omega dt <= 0.7 h / dx (~0.9), half the leapfrog limit of 2.
+  if (maxBondModulus_ > 0.0)
+    dt = std::min(dt, 0.7 * h / std::sqrt(2.0 * maxBondModulus_ / minRigidDensity_));
   return dt;
 }
 

@@ -25,6 +25,9 @@
 //                the continuity sum of the fluid over its rigid neighbours (Eq. 5.1a).
 //   rigid-solid, rigid-rigid (different bodies), rigid-wall: the repulsion of Eq. A.18
 //                (libcore/contact_repulsion.hpp) with the bulk modulus of the stiffer side (A.17).
+//   rigid-solid of a `bonded` body: the solid particles of the first layer (a body particle
+//                within 1.5 dx at the start) are bonded to anchor points fixed in the body frame
+//                (A.6 in tension and shear too); the bond replaces the repulsion for that body.
 //
 // Constraints (material keys): fixed bodies, translation along chosen axes only, no rotation,
 // and force-controlled plates (a plate pushed along `direction` by stress x area that moves to
@@ -55,6 +58,14 @@ struct RigidMaterial {
   double plateStress = 0.0, plateArea = 0.0;
   double plateRampTime = 0.0;  ///< s: the load is stress x area x min(1, t / ramp_time)
   double damping = 0.0;  ///< viscous damping of the body's velocity and spin (1/s)
+  /// Bonded to the elastic solid (normal stress continuity A.6 in tension and shear too): each
+  /// solid particle of the first layer around the body is held to its anchor point, fixed in the
+  /// body frame, by a zero-length spring (see RigidModule::bondForce).
+  bool bonded = false;
+  /// Plates only (`bonded: slip`): the bond acts along the plate's direction only, so the bonded
+  /// face slides freely along the plate (a frictionless flat contact without the corrugation of
+  /// the particle-particle repulsion).
+  bool bondSlip = false;
   std::string where;  ///< "file:line: materials[k]" for messages
 };
 
@@ -108,6 +119,9 @@ class RigidModule : public Module {
   const std::vector<RigidBody>& bodies() const { return bodies_; }
   /// Sets a body's velocity and angular velocity (world frame) and re-places its particles.
   void setBodyVelocity(Simulation& sim, size_t body, const rigid::V3& V, const rigid::V3& omega);
+  /// Force of its bond on solid particle i (zero if not bonded), at the last evaluation's body
+  /// placement: the interface traction of A.6 carried by that particle.
+  rigid::V3 bondForceOn(const Simulation& sim, Index i) const;
   /// Body partition of the current store (connected clusters); throws for bad bodies.
   BodyPartition partition(const Simulation& sim) const;
 
@@ -115,6 +129,15 @@ class RigidModule : public Module {
   template <int D> void interfacesD(Simulation& sim);
   template <int D> void constraintsD(Simulation& sim);
   template <int D> void placeD(Simulation& sim, int onlyBody);
+  void initialiseBonds(Simulation& sim);
+  /// Force of its bond on solid particle i (zero-length spring to its anchor point, which moves
+  /// with the body: f = -K (x_i - X - R r_anchor), minimal image across periodic faces); the body
+  /// receives -f at the anchor point (parallel to the spring: no net couple). Also returns the
+  /// spring vector d = x_i - anchor. Called by interfaces() (solid side) and constraints()
+  /// (body side), so both sides use one expression.
+  template <int D>
+  Vec<D> bondForce(const Simulation& sim, Index i, const double* x, const std::int32_t* mt,
+                   Vec<D>& d) const;
   const RigidMaterial* materialOf(int id) const;
   double time_ = 0.0;  ///< sim.time of the evaluation (plate load ramps)
   void constrain(RigidBody& b, const rigid::V3& force, const rigid::V3& torque, rigid::V3& acc,
@@ -127,6 +150,17 @@ class RigidModule : public Module {
   BoundaryModel fluidModel_ = BoundaryModel::Mirror;
   IntField body_;
   RealField offset_;
+  bool bonds_ = false;           // some rigid material is bonded: fields below allocated
+  IntField bondBody_;            // solid particles: bonded body (-1: none)
+  RealField bondAnchor_;         // solid particles: anchor in the body frame
+  std::vector<rigid::M3> rot_;   // per-body rotation of the current evaluation (bonds)
+  std::vector<rigid::V3> place_; // per-body centre of the current evaluation (bonds)
+  std::vector<double> bondPartial_;  // per-thread sums of bodyPlacement() (12 per body)
+  /// Centre and rotation of every body at its particles' current (predicted) positions: centre of
+  /// mass and the rotation of the polar decomposition of sum m (x - X) r_body^T (exact for a
+  /// rigid placement). The bonds' anchors move with them.
+  template <int D> void bodyPlacement(const Simulation& sim);
+  double maxBondModulus_ = 0.0;  // largest bond modulus (time step)
   RealField pressure_, wallVelocity_, viscousFactor_, densityRate_;
   bool fluidPairs_ = false;
   std::vector<double> solidModulus_;  // by material id: rho0 c^2 of solid materials (A.17)
