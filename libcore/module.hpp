@@ -86,6 +86,13 @@ class Module {
   virtual ModuleState saveState() const { return {}; }
   virtual void restoreState(const ModuleState& state) {}
 
+  /// Bytes per particle of the fields this module registers only in initialise(), once the
+  /// particles exist (e.g. the Total-Lagrangian reference family, sized by the largest family),
+  /// for the memory estimate made before any particle is allocated (Scene::memory, `poresph
+  /// info`). `neighbours`: the lattice estimate of neighbours per particle within the support.
+  virtual double deferredBytesPerParticle(const Simulation& sim, double neighbours) const {
+    return 0.0;
+  }
   /// Largest stable time step of this module (CFL conditions, Eqs. 2.49-2.50).
   virtual double timeStepLimit(const Simulation& sim) const {
     return std::numeric_limits<double>::infinity();

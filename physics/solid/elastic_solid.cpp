@@ -1156,6 +1156,15 @@ double ElasticSolidModule::elasticTimeStepLimit(const Simulation& sim) const {
   return courant * solidKernel(sim).h() / c;
 }
 
+double ElasticSolidModule::deferredBytesPerParticle(const Simulation& sim,
+                                                    double neighbours) const {
+  if (formulation_ != Formulation::TotalLagrangian) return 0.0;
+  // The family capacity is the largest reference neighbour count: the interior lattice count.
+  const double cap = std::max(1.0, neighbours);
+  return cap * (2.0 * sizeof(std::int32_t) + sim.dimension() * sizeof(double)) +
+         sizeof(std::int32_t);
+}
+
 double ElasticSolidModule::timeStepLimit(const Simulation& sim) const {
   const ParticleStore& s = sim.store;
   const Index n = s.realCount();

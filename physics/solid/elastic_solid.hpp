@@ -120,6 +120,9 @@ class ElasticSolidModule : public Module {
       if (name == "damage_clipped_updates" && !v.empty()) clippedUpdates_ = static_cast<long>(v[0]);
   }
   double timeStepLimit(const Simulation& sim) const override;
+  /// The TL reference family registered in initialise(): per member an id, a slot (int32 each)
+  /// and D gradient doubles, plus the member count (docs/particle-store.md "Memory").
+  double deferredBytesPerParticle(const Simulation& sim, double neighbours) const override;
   /// solid-solid (the fluid-solid pairs belong to the coupling module).
   std::vector<PairClass> ownedPairs() const override {
     return {PairClass(kPhaseSolid, kPhaseSolid)};

@@ -227,9 +227,16 @@ TEST(InputErrors, MemoryEstimateRefusesAndNamesTheNumbers) {
   opt.checkMemory = false;
   Scene s = loadScene(writeScene("mem_force.yaml", kBase), opt);
   EXPECT_EQ(s.memory.particles, 200u);
-  EXPECT_EQ(s.memory.fieldBytesPerParticle, s.sim->store.bytesPerParticle());
-  EXPECT_EQ(s.memory.bytesPerParticle,
-            2 * s.memory.fieldBytesPerParticle + s.memory.neighbourBytesPerParticle);
+  // Fields: the store's plus the integrator's scratch (registered at the first step: velocity
+  // and position copies and one copy of each integrated field); the rollback copy: its fields.
+  std::uint64_t scratch = 2 * s.sim->dimension() * sizeof(double);
+  for (const auto& f : s.sim->integrated) scratch += s.sim->store.components(f.value.id) * 8u;
+  EXPECT_EQ(s.memory.fieldBytesPerParticle, s.sim->store.bytesPerParticle() + scratch);
+  EXPECT_EQ(s.memory.rollbackBytesPerParticle, RollbackState::bytesPerParticle(s.sim->store));
+  EXPECT_LT(s.memory.rollbackBytesPerParticle, s.memory.fieldBytesPerParticle);
+  EXPECT_EQ(s.memory.bytesPerParticle, s.memory.fieldBytesPerParticle +
+                                           s.memory.rollbackBytesPerParticle +
+                                           s.memory.neighbourBytesPerParticle);
   EXPECT_EQ(s.memory.totalBytes, 200u * s.memory.bytesPerParticle);
   EXPECT_FALSE(s.memory.fits());
   // The neighbour part covers the lists actually built (plus the search's own arrays).
