@@ -30,6 +30,11 @@ void ConstitutiveLaw::configureDamage(const ParameterSet& p) {
                         : DamageLawType::RankineMohrCoulomb;
   const Range unitOpen{0.0, 1.0, true, true};
   limit = p.real("limit", 0.99, unitOpen);  // s_l, Tab. 4.2
+  // energy split: the thesis' unilateral one (4.17) or the spectral option (docs/damage.md,
+  // "Damage under confinement")
+  splitType = p.choice("split", "volumetric", {"volumetric", "spectral"}) == "spectral"
+                  ? EnergySplit::Spectral
+                  : EnergySplit::Volumetric;
 
   if (type == DamageLawType::RankineMohrCoulomb) {
     // Strain-based Rankine (tension) + Mohr-Coulomb (compression, shear), Table 5.1.
@@ -45,6 +50,9 @@ void ConstitutiveLaw::configureDamage(const ParameterSet& p) {
                                                 std::to_string(epsC0) + ")");
     const double phi = p.real("friction_angle", Range{0.0, 90.0, false, true});
     sinPhi = std::sin(phi * M_PI / 180.0);
+    tensileMeasure = p.choice("tensile_measure", "strain", {"strain", "stress"}) == "stress"
+                         ? TensileMeasure::Stress
+                         : TensileMeasure::Strain;
     p.finish();
     return;
   }

@@ -28,6 +28,21 @@ namespace poresph::solid {
 
 enum class DamageLawType { Elastic, PCW, AT1, AT2, RankineMohrCoulomb };
 
+/// Which part of the energy the damage degrades (key `split:` of a `damage:` section).
+/// Volumetric: the thesis' unilateral split (4.17): bulk degraded for tr eps >= 0, shear always.
+/// Spectral: Miehe-type split on the principal strains e_i (issue 13, localisation under
+/// confinement, docs/damage.md): psi+ = lambda/2 <tr eps>+^2 + mu sum <e_i>+^2, psi- = the
+/// rest; a compressed principal direction keeps its stiffness and so does the shear between two
+/// compressed directions. Not in the thesis; an option, never the default.
+enum class EnergySplit { Volumetric, Spectral };
+
+/// Tensile measure of the Rankine branch (key `tensile_measure:`). Strain: the largest
+/// principal strain (the default, as in [126] "strain based"). Stress: the largest principal
+/// undamaged (effective) stress over E, i.e. Rankine's sigma_1 <= f_t with f_t = E eps_t0
+/// (Tab. 5.1: 4 MPa / 3 GPa = 0.0013): the same onset in uniaxial tension, but a compressed
+/// point whose Poisson or shear strain makes e_1 > eps_t0 with sigma_1 < f_t does not damage.
+enum class TensileMeasure { Strain, Stress };
+
 /// Name of a law as written in scenes (elastic, pcw, at1, at2, rankine_mohr_coulomb).
 std::string damageLawName(DamageLawType t);
 
@@ -66,6 +81,8 @@ class ConstitutiveLaw {
   double epsT0 = 0.0, epsTu = 0.0;  ///< tensile onset / ultimate strain (max principal strain)
   double epsC0 = 0.0, epsCu = 0.0;  ///< compressive onset / ultimate Mohr-Coulomb equivalent strain
   double sinPhi = 0.0;              ///< sin of the friction angle
+  EnergySplit splitType = EnergySplit::Volumetric;    ///< `split:` (all damage laws)
+  TensileMeasure tensileMeasure = TensileMeasure::Strain;  ///< `tensile_measure:` (Rankine)
 
   bool damages() const { return type != DamageLawType::Elastic; }
 
@@ -112,11 +129,21 @@ class ConstitutiveLaw {
   struct Split {
     double tr = 0.0;    ///< tr eps (in-plane trace in 2D: eps_zz = 0 in plane strain)
     double dev2 = 0.0;  ///< eps^d : eps^d with the deviator of dimension bulkDim
+    // spectral split only: sum of the squared positive / negative principal strains (the
+    // out-of-plane one is 0 in plane strain and not part of the plane-stress law)
+    bool spectral = false;
+    double pos2 = 0.0, neg2 = 0.0;
   };
   template <int D>
   Split split(const Mat<D>& eps) const {
     Split s;
     s.tr = eps.trace();
+    if (splitType == EnergySplit::Spectral) {
+      s.spectral = true;
+      const Vec<D> e = eigenvalues<D>(eps);
+      for (int k = 0; k < D; ++k) (e[k] > 0.0 ? s.pos2 : s.neg2) += e[k] * e[k];
+      return s;
+    }
     const double m = s.tr / bulkDim;
     s.dev2 = eps.squaredNorm() - 2.0 * m * s.tr + D * m * m;  // in-plane part of eps^d : eps^d
     if (bulkDim > D) s.dev2 += (bulkDim - D) * m * m;         // out-of-plane (plane strain)
@@ -124,13 +151,17 @@ class ConstitutiveLaw {
     return s;
   }
   /// Degradable energy psi+ = 1/2 k0 <tr>+^2 + mu0 eps^d:eps^d (4.17, tr >= 0 branch).
+  /// Spectral split: lambda/2 <tr>+^2 + mu sum <e_i>+^2.
   double psiPlus(const Split& s) const {
     const double tp = std::max(s.tr, 0.0);
+    if (s.spectral) return 0.5 * lambda * tp * tp + mu * s.pos2;
     return 0.5 * k0 * tp * tp + mu * s.dev2;
   }
   /// Energy kept whatever D: psi- = 1/2 k0 <tr>-^2 (4.17, tr <= 0 branch).
+  /// Spectral split: lambda/2 <tr>-^2 + mu sum <e_i>-^2.
   double psiMinus(const Split& s) const {
     const double tm = std::min(s.tr, 0.0);
+    if (s.spectral) return 0.5 * lambda * tm * tm + mu * s.neg2;
     return 0.5 * k0 * tm * tm;
   }
   /// Free energy rho w(eps, D) of Eq. 4.17 (4.1 for D = 0).
@@ -142,10 +173,27 @@ class ConstitutiveLaw {
 
   /// Stress of Eq. 4.18a: k tr(eps) 1 + 2 mu(D) eps^d with k = k(D) for tr >= 0, k0 otherwise
   /// (continuous at tr = 0). With D = 0: lambda tr(eps) 1 + 2 mu eps (2.74, 2.84).
+  /// Spectral split: g [lambda <tr>+ 1 + 2 mu eps+] + lambda <tr>- 1 + 2 mu eps-, eps+- the
+  /// positive / negative principal parts (the derivative of its energy; continuous).
   template <int D>
   Mat<D> stress(const Mat<D>& eps, double dmg) const {
     const double gd = g(dmg);
     const double tr = eps.trace();
+    if (splitType == EnergySplit::Spectral) {
+      Mat<D> s = Mat<D>::Zero();
+      if constexpr (D == 1) {
+        s(0, 0) = 2.0 * mu * eps(0, 0) * (eps(0, 0) > 0.0 ? gd : 1.0);
+      } else {
+        Eigen::SelfAdjointEigenSolver<Mat<D>> es(eps);
+        for (int k = 0; k < D; ++k) {
+          const double ek = es.eigenvalues()[k];
+          const Vec<D> nk = es.eigenvectors().col(k);
+          s.noalias() += (2.0 * mu * ek * (ek > 0.0 ? gd : 1.0)) * (nk * nk.transpose());
+        }
+      }
+      s.diagonal().array() += lambda * tr * (tr > 0.0 ? gd : 1.0);
+      return s;
+    }
     const double kEff = tr >= 0.0 ? gd * k0 : k0;
     const double muEff = gd * mu;
     Mat<D> s = 2.0 * muEff * eps;
@@ -173,7 +221,9 @@ class ConstitutiveLaw {
     double target = 0.0;
     if (type == DamageLawType::RankineMohrCoulomb) {
       const Vec<3> e = principal<D>(eps);  // descending, with eps_zz = 0 in plane strain
-      history[0] = std::max(history[0], e[0]);
+      history[0] = std::max(history[0], tensileMeasure == TensileMeasure::Stress
+                                            ? maxEffectiveStress<D>(eps) / young
+                                            : e[0]);
       // Mohr-Coulomb on the undamaged (effective) stress: ((s1 - s3) + (s1 + s3) sin phi) /
       // (1 - sin phi) = f_c in uniaxial compression; as a strain: divided by E.
       const double trv = s.tr;
@@ -201,6 +251,29 @@ class ConstitutiveLaw {
     if (!(kappa > kappa0)) return 0.0;
     if (kappa >= kappaU) return 1.0;
     return 1.0 - kappa0 * (kappaU - kappa) / (kappa * (kappaU - kappa0));
+  }
+
+  /// Eigenvalues of a symmetric D x D matrix (any order).
+  template <int D>
+  static Vec<D> eigenvalues(const Mat<D>& m) {
+    if constexpr (D == 1) {
+      return Vec<D>(m(0, 0));
+    } else {
+      Eigen::SelfAdjointEigenSolver<Mat<D>> es(m, Eigen::EigenvaluesOnly);
+      return es.eigenvalues();
+    }
+  }
+
+  /// Largest principal value of the undamaged stress lambda tr(eps) 1 + 2 mu eps, the
+  /// out-of-plane sigma_zz = lambda tr(eps) included in plane strain (bulkDim 3 in 2D) and 0
+  /// in plane stress; 1D: E eps.
+  template <int D>
+  double maxEffectiveStress(const Mat<D>& eps) const {
+    const double tr = eps.trace();
+    const Vec<D> e = eigenvalues<D>(eps);
+    double s1 = lambda * tr + 2.0 * mu * e.maxCoeff();
+    if (D == 2) s1 = std::max(s1, bulkDim == 3 ? lambda * tr : 0.0);
+    return s1;
   }
 
   /// Principal strains in descending order, as 3 values (1D: eps, 0, 0 sorted; 2D plane strain
