@@ -201,8 +201,13 @@ std::string shellQuote(const std::string& s) {
 
 std::string selfExecutable() {
   std::error_code ec;
-  const fs::path p = fs::read_symlink("/proc/self/exe", ec);
-  return ec ? std::string("poresph") : p.string();
+  std::string p = fs::read_symlink("/proc/self/exe", ec).string();
+  // A program rebuilt while it runs (a study while `cmake --build` relinks poresph) reads
+  // "PATH (deleted)": the cases run the new file at PATH.
+  const std::string deleted = " (deleted)";
+  if (p.size() > deleted.size() && p.compare(p.size() - deleted.size(), deleted.size(), deleted) == 0)
+    p.resize(p.size() - deleted.size());
+  return ec || p.empty() ? std::string("poresph") : p;
 }
 
 std::string findScript(const std::string& name) {

@@ -32,7 +32,7 @@ for n in "${names[@]}"; do
         --vary kernel=quintic,wendland,cubic --vary h_over_dx=1.0,1.5 ;;
     droplet_edge)  # smallest h/dx and the density ratio gas : liquid
       study droplet_edge studies/static_droplet.yaml --set spacing=1.5e-4 \
-        --vary h_over_dx=0.7,0.85,1.0 --vary materials.gas.density=1000,100,10 ;;
+        --vary h_over_dx=0.7,0.85,1.0 --vary materials.gas.density=1000,100 ;;
     spurious)  # spurious currents Ca = mu u_max / gamma
       study spurious studies/static_droplet_spurious.yaml --vary spacing=3e-4,2.25e-4,1.5e-4,1e-4 \
         --vary kernel=quintic,wendland --vary h_over_dx=1.0,1.5 ;;
