@@ -15,6 +15,7 @@
 #   DSPH_BIN=path/DualSPHysics5.4CPU_linux64     run DualSPHysics too (see ../shared/benchmarks/README.md)
 #   DSPH_A=path/out_dp0.01/Dam  DSPH_B=path/out_B/Dam   its GenCase outputs of case A and B
 #   DSPH_TMAX=0.004  physical time of a DSPH run (~1e-4 s per step: 0.004 s ~ 40 steps)
+#   SKIN=0.3        neighbour_skin (units of dx) written into the PoreSPH scenes (default: the scene's)
 #   SHORT=1          also run each program for ~5 steps (PoreSPH max_steps 5, DSPH tmax 0.0005)
 #                    and print the CPU time per step of the difference (set-up and output cancel:
 #                    the figure to compare on a loaded machine, with THREADS=1)
@@ -32,19 +33,26 @@ scene_of() { case $1 in A) echo benchmarks/scenes/dam_break_caseA_cubic.yaml ;;
 dsph_case_of() { case $1 in A) echo "${DSPH_A:-}" ;; B) echo "${DSPH_B:-}" ;; esac; }
 
 cpu_of() {  # command...: prints user + sys seconds
-  { /usr/bin/time -f "CPUTIME %U %S" "$@" > /dev/null 2>&1 ; } 2>&1 | awk '/^CPUTIME/ { print $2 + $3 }'
+  local f
+  f=$(mktemp)
+  /usr/bin/time -f "%U %S" -o "$f" "$@" > /dev/null 2>&1
+  awk '{ print $1 + $2 }' "$f"
+  rm -f "$f"
 }
 
 run_poresph() {  # case threads rep
   local scene tmp out log np nf load0 load1 cpu
   scene=$(scene_of "$1")
   tmp=$(mktemp -d)
+  sed -e "s/^max_steps:.*/max_steps: $STEPS/" -e "s/^end_time:.*/end_time: 10.0/" "$scene" > "$tmp/scene.yaml"
+  if [ -n "${SKIN:-}" ]; then
+    sed -i -e '/^neighbour_skin:/d' -e "s/^kernel:.*/&\nneighbour_skin: $SKIN/" "$tmp/scene.yaml"
+  fi
+  local c5 cN
   if [ -n "${SHORT:-}" ]; then
-    sed -e "s/^max_steps:.*/max_steps: 5/" -e "s/^end_time:.*/end_time: 10.0/" "$scene" > "$tmp/short.yaml"
-    local c5 cN
+    sed -e "s/^max_steps:.*/max_steps: 5/" "$tmp/scene.yaml" > "$tmp/short.yaml"
     c5=$(cpu_of "$PORESPH" run "$tmp/short.yaml" --out "$tmp/o5" --force --threads "$2")
   fi
-  sed -e "s/^max_steps:.*/max_steps: $STEPS/" -e "s/^end_time:.*/end_time: 10.0/" "$scene" > "$tmp/scene.yaml"
   grep -q '^max_steps:' "$tmp/scene.yaml" || echo "max_steps: $STEPS" >> "$tmp/scene.yaml"
   np=$("$PORESPH" info "$tmp/scene.yaml" | awk '/^particles:/ { print $2 }')
   nf=$("$PORESPH" info "$tmp/scene.yaml" | awk '/\(model fluid\)/ { s += $2 } END { print s + 0 }')

@@ -595,9 +595,35 @@ void FluidModule::constitutiveD(Simulation& sim) {
   const std::int32_t* mo = st.data(sim.motion);
   Vec<D> g;
   for (int a = 0; a < D; ++a) g[a] = gravity_[static_cast<size_t>(a)];
+  // Only boundary particles with a fluid neighbour are extrapolated (issue 17): they are
+  // flagged from the fluid particles' lists (the lists are symmetric; a ghost neighbour flags
+  // its source), so that the neighbours of the dry boundary (in a rock scene ~87 % of the
+  // particles are solid) are not swept. The others get p = 0 and v~ = v, what the sweep gave
+  // them (no fluid neighbour: sum W = 0).
+  if (wetFlag_.size() < static_cast<size_t>(n)) wetFlag_.resize(static_cast<size_t>(n));
+  unsigned char* wet = wetFlag_.data();
+  const Index* ghostSource = st.ghostSources().data();
+#pragma omp parallel for schedule(static)
+  for (Index i = 0; i < n; ++i) wet[i] = 0;
 #pragma omp parallel for schedule(static)
   for (Index i = 0; i < n; ++i) {
+    if (ph[i] != kPhaseFluid) continue;
+    for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
+      const Index j = nl.index[static_cast<size_t>(k)];
+      if (ph[j] == kPhaseFluid) continue;
+      const Index b = j < n ? j : ghostSource[j - n];
+#pragma omp atomic write
+      wet[b] = 1;
+    }
+  }
+#pragma omp parallel for schedule(dynamic, 512)
+  for (Index i = 0; i < n; ++i) {
     if (ph[i] == kPhaseFluid) continue;
+    if (!wet[i]) {
+      p[i] = 0.0;
+      for (int a = 0; a < D; ++a) vw[i * D + a] = v[i * D + a];
+      continue;
+    }
     // A moving boundary: g - a_w (Adami et al. 2012, Eq. 27), a_w of the last evaluation.
     Vec<D> ga = g;
     if (aw && mo[i] != kMotionFixed)

@@ -112,6 +112,7 @@ class FluidModule : public Module {
   // Scratch of the force loop (sized once, no allocation in the time loop): V = m / rho of every
   // particle, and the single fluid's density at each boundary particle's pressure.
   std::vector<double> vol_, wallRho_;
+  std::vector<unsigned char> wetFlag_;  // constitutive stage: boundary particle has a fluid neighbour
   std::vector<double> gravity_;
   std::vector<BodyForce> bodyForces_;
   bool summation_ = false;
