@@ -23,7 +23,7 @@
 // with XSPH the core field position_correction (Simulation::positionCorrection, shared with the
 // fluid);
 // TL: deformation_gradient, first_piola, solid_family (ids), solid_family_count,
-// solid_family_gradient, solid_family_reverse_slot; small strain: density_rate and the
+// solid_family_gradient, solid_family_reverse_gradient (or _reverse_slot); small strain: density_rate and the
 // correction state solid_correction_{matrix,shepard_sum,shepard_gradient} (libcore/corrections).
 #include <array>
 #include <string>
@@ -191,8 +191,9 @@ class ElasticSolidModule : public Module {
   std::array<double, 3> waveAmplitude_{0, 0, 0}, waveVector_{0, 0, 0};
 
   RealField refPos_, disp_, strain_, stress_, energy_, energyRate_, work_, workRate_, bcForce_;
-  RealField defGrad_, piola_, famGrad_;
-  IntField famRevSlot_;
+  RealField defGrad_, piola_, famGrad_, famRevGrad_;  // famRevGrad_: family_storage fast
+  IntField famRevSlot_;                                 // family_storage compact
+  bool compactFamily_ = false;
   RealField densityRate_, xsph_;
   CorrectionFields corrFields_;
   NeighbourList solidNeighbours_;
