@@ -40,7 +40,7 @@ for n in "${names[@]}"; do
       study lame studies/lame.yaml --vary spacing=1e-3,5e-4,2.5e-4 --vary kernel=cubic,wendland \
         --vary h_over_dx=1.3,1.6 ;;
     lame_edge) # the largest stable CFL and the smallest h/dx
-      study lame_edge studies/lame.yaml --vary cfl=0.5,0.9,1.0 --vary h_over_dx=0.9,1.1,1.3 ;;
+      study lame_edge studies/lame.yaml --vary cfl=0.5,1.0 --vary h_over_dx=0.6,0.8,1.3 ;;
     entry)     # gas penetration into the slit against the finest run
       study entry studies/capillary_entry.yaml --vary spacing=2e-4,1e-4,5e-5 ;;
     *) echo "unknown study '$n' (bar, bar_edge, droplet, droplet_edge, spurious, lame, lame_edge, entry)"; exit 2 ;;
