@@ -108,7 +108,7 @@ int runSweep(const SweepOptions& o) {
     k.name = caseFolderName(c, k.chosen);
     cases.push_back(k);
   }
-  const std::string exe = selfExecutable();
+  const std::string exe = childExecutable();
   std::cerr << "poresph sweep: " << total << " cases of " << o.scene << " in " << o.out << "\n";
   for (Case& k : cases) {
     const fs::path dir = fs::path(o.out) / k.name;

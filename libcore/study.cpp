@@ -210,6 +210,12 @@ std::string selfExecutable() {
   return ec || p.empty() ? std::string("poresph") : p;
 }
 
+std::string childExecutable() {
+  std::error_code ec;
+  if (fs::exists("/proc/self/exe", ec) && access("/proc/self/exe", X_OK) == 0) return "/proc/self/exe";
+  return selfExecutable();
+}
+
 std::string findScript(const std::string& name) {
   const fs::path exe = selfExecutable();
   for (const fs::path& p : {exe.parent_path().parent_path() / "scripts" / name,
@@ -564,7 +570,7 @@ std::vector<StudyRow> runStudy(const StudyOptions& o) {
   fs::create_directories(o.out, ec);
   if (ec) throw InputError("--out '" + o.out + "': cannot create the folder: " + ec.message());
 
-  const std::string exe = o.executable.empty() ? selfExecutable() : o.executable;
+  const std::string exe = o.executable.empty() ? childExecutable() : o.executable;
   const std::string sceneDir = fs::absolute(o.scene).parent_path().string();
   std::vector<StudyRow> rows;
   std::cerr << "poresph study: " << cases.size() << " runs of " << o.scene << " in " << o.out

@@ -47,6 +47,9 @@ YAML::Node readSceneYaml(const std::string& path);
 std::string shellQuote(const std::string& s);
 /// This program's path (/proc/self/exe), or "poresph".
 std::string selfExecutable();
+/// What a child should execute to run this very program: "/proc/self/exe" (the running file,
+/// even when `cmake --build` relinks poresph during a study or sweep), else selfExecutable().
+std::string childExecutable();
 /// scripts/<name> next to the build (build/poresph -> ../scripts) or under ./scripts, or "".
 std::string findScript(const std::string& name);
 
