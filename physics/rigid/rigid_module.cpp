@@ -30,6 +30,15 @@ std::string fmtNum(double v) {
   return o.str();
 }
 
+/// x_a - y_a by the minimal image along a periodic axis a.
+double wrapDelta(double d, const Domain& dom, int a) {
+  if (dom.periodic[static_cast<size_t>(a)]) {
+    const double L = dom.length(a);
+    d -= L * std::round(d / L);
+  }
+  return d;
+}
+
 /// Union-find with path halving.
 struct UnionFind {
   std::vector<Index> parent;
@@ -214,7 +223,7 @@ void RigidModule::initialiseBonds(Simulation& sim) {
     const RigidBody& B = bodies_[static_cast<size_t>(b)];
     bb[i] = b;
     V3 r = V3::Zero();
-    for (int a = 0; a < d; ++a) r[a] = x[i * d + a] - B.state.X[a];
+    for (int a = 0; a < d; ++a) r[a] = wrapDelta(x[i * d + a] - B.state.X[a], dom, a);
     const V3 rb = R[static_cast<size_t>(b)].transpose() * r;
     for (int a = 0; a < d; ++a) anchor[i * d + a] = rb[a];
     const double k = std::max(materialOf(B.material)->contactModulus,
@@ -397,12 +406,18 @@ BodyPartition RigidModule::partition(const Simulation& sim) const {
     for (int a = 0; a < d; ++a) {
       std::array<long long, 3> c = cell[static_cast<size_t>(k)];
       c[static_cast<size_t>(a)] += 1;
+      if (sim.domain.periodic[static_cast<size_t>(a)] &&
+          c[static_cast<size_t>(a)] == std::llround(sim.domain.length(a) / dx))
+        c[static_cast<size_t>(a)] = 0;  // a body across a periodic face is one body
       auto it = at.find(key(c));
       if (it == at.end()) continue;
       const Index j = rigidIdx[static_cast<size_t>(it->second)];
       if (mt[j] != mt[i]) continue;
       double r2 = 0.0;
-      for (int b = 0; b < d; ++b) r2 += (x[i * d + b] - x[j * d + b]) * (x[i * d + b] - x[j * d + b]);
+      for (int b = 0; b < d; ++b) {
+        const double db = wrapDelta(x[i * d + b] - x[j * d + b], sim.domain, b);
+        r2 += db * db;
+      }
       if (r2 < 1.5 * 1.5 * dx * dx) uf.unite(k, it->second);
     }
   }
@@ -431,6 +446,14 @@ BodyPartition RigidModule::partition(const Simulation& sim) const {
     RigidBody& B = out.bodies[static_cast<size_t>(b)];
     V3 p = V3::Zero();
     for (int a = 0; a < d; ++a) p[a] = x[i * d + a];
+    // positions unwrapped next to the body's first particle (minimal image across periodic faces)
+    if (!seen[static_cast<size_t>(b)]) {
+      first[static_cast<size_t>(b)] = p;
+      seen[static_cast<size_t>(b)] = true;
+    }
+    for (int a = 0; a < d; ++a)
+      p[a] = first[static_cast<size_t>(b)][a] +
+             wrapDelta(p[a] - first[static_cast<size_t>(b)][a], sim.domain, a);
     B.count += 1;
     B.state.mass += m[i];
     B.state.X += m[i] * p;
@@ -442,7 +465,8 @@ BodyPartition RigidModule::partition(const Simulation& sim) const {
     const int b = out.bodyOf[static_cast<size_t>(i)];
     if (b < 0) continue;
     V3 r = V3::Zero();
-    for (int a = 0; a < d; ++a) r[a] = x[i * d + a] - out.bodies[static_cast<size_t>(b)].state.X[a];
+    for (int a = 0; a < d; ++a)
+      r[a] = wrapDelta(x[i * d + a] - out.bodies[static_cast<size_t>(b)].state.X[a], sim.domain, a);
     inertia[static_cast<size_t>(b)] += m[i] * (r.squaredNorm() * M3::Identity() - r * r.transpose());
   }
   for (size_t b = 0; b < out.bodies.size(); ++b) {
@@ -510,7 +534,7 @@ void RigidModule::initialise(Simulation& sim) {
     const RigidBody& B = bodies_[static_cast<size_t>(body[i])];
     V3 r = V3::Zero(), vi = V3::Zero();
     for (int a = 0; a < d; ++a) {
-      r[a] = x[i * d + a] - B.state.X[a];
+      r[a] = wrapDelta(x[i * d + a] - B.state.X[a], sim.domain, a);
       vi[a] = v[i * d + a];
     }
     P[static_cast<size_t>(body[i])] += m[i] * vi;
