@@ -6,11 +6,17 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <map>
 #include <numeric>
 #include <random>
+#include <sstream>
 
 #include "libcore/health.hpp"
 #include "libcore/parameters.hpp"
+#include "libcore/runner.hpp"
+#include "libcore/scene.hpp"
 #include "libcore/simulation.hpp"
 
 using namespace poresph;
@@ -136,4 +142,87 @@ TEST(Rollback, RollbackEveryIsAWholePositiveNumberOfSteps) {
       EXPECT_NE(std::string(e.what()).find("rollback_every"), std::string::npos) << e.what();
     }
   }
+}
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// A 2D water column whose sound speed is far too low for its height (tests/unit/test_health.cpp):
+// the density-variation check stops it after some tens of steps.
+std::string lowSoundSpeedColumn(const std::string& extra) {
+  return R"(dimension: 2
+domain: {lo: [-0.003, -0.003], hi: [0.023, 0.023]}
+spacing: 0.001
+kernel: wendland_c2
+end_time: 0.5
+time_step: {adaptive: true}
+output: {every_time: 10.0}
+materials:
+  - {name: water, model: fluid, density: 1000, sound_speed: 0.7, viscosity: 1.0e-3}
+  - {name: steel, model: wall, density: 1000}
+geometry:
+  - {shape: box, lo: [-0.003, -0.003], hi: [0.023, 0.023], material: steel}
+  - {shape: box, lo: [0.0, 0.0], hi: [0.02, 0.02], material: water}
+fluid:
+  gravity: [0, -9.81]
+)" + extra;
+}
+
+Scene loadText(const std::string& name, const std::string& text) {
+  const fs::path dir = fs::path(PORESPH_BINARY_DIR) / "tmp_test_health_rollback";
+  fs::create_directories(dir);
+  std::ofstream(dir / name) << text;
+  return loadScene((dir / name).string());
+}
+
+RunResult runQuiet(Scene& s, const std::string& name) {
+  // Reorder the store along the cells every 3 neighbour builds (default 50), so that reorders
+  // fall between a copy and the failure.
+  s.sim->reorderEvery = 3;
+  RunOptions o;
+  o.outDir = (fs::path(PORESPH_BINARY_DIR) / "tmp_test_health_rollback" / name).string();
+  fs::remove_all(o.outDir);
+  o.handleSignals = false;
+  return runScene(s, o);
+}
+
+std::map<std::int32_t, std::vector<double>> positionsById(const Simulation& sim) {
+  std::map<std::int32_t, std::vector<double>> m;
+  const ParticleStore& st = sim.store;
+  const int d = sim.dimension();
+  for (Index i = 0; i < st.realCount(); ++i)
+    m[st.data(st.id())[i]] = std::vector<double>(st.data(st.position()) + d * i,
+                                                 st.data(st.position()) + d * (i + 1));
+  return m;
+}
+
+}  // namespace
+
+TEST(Rollback, AFailedRunWritesTheStateOfTheLastCopyExactly) {
+  // rollback_every 1: the state before the failed step.
+  Scene every = loadText("every.yaml", lowSoundSpeedColumn(""));
+  const RunResult r1 = runQuiet(every, "every");
+  ASSERT_EQ(r1.status, RunStatus::Failed) << r1.message;
+  const Index last = every.sim->step;
+  ASSERT_GE(last, 6);
+  // rollback_every 4: the same trajectory, written back to the last multiple of 4.
+  Scene sparse = loadText("sparse.yaml", lowSoundSpeedColumn("health: {rollback_every: 4}\n"));
+  const RunResult r4 = runQuiet(sparse, "sparse");
+  ASSERT_EQ(r4.status, RunStatus::Failed) << r4.message;
+  EXPECT_EQ(sparse.sim->step, last / 4 * 4);
+  // The restored state equals the state of a run stopped at that step, particle by particle
+  // (the store was cell-reordered in between: the restore puts the captured order back).
+  Scene stopped = loadText("stopped.yaml", lowSoundSpeedColumn("max_steps: " +
+                                                               std::to_string(last / 4 * 4) + "\n"));
+  const RunResult rs = runQuiet(stopped, "stopped");
+  ASSERT_EQ(rs.status, RunStatus::Finished) << rs.message;
+  ASSERT_EQ(stopped.sim->step, sparse.sim->step);
+  EXPECT_EQ(stopped.sim->time, sparse.sim->time);
+  EXPECT_EQ(positionsById(*stopped.sim), positionsById(*sparse.sim));
+  // The same for the state before the failed step.
+  Scene stopped1 = loadText("stopped1.yaml",
+                            lowSoundSpeedColumn("max_steps: " + std::to_string(last) + "\n"));
+  ASSERT_EQ(runQuiet(stopped1, "stopped1").status, RunStatus::Finished);
+  EXPECT_EQ(positionsById(*stopped1.sim), positionsById(*every.sim));
 }
