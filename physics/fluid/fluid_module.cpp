@@ -13,6 +13,7 @@
 #include "libcore/fluid_pair_terms.hpp"
 #include "libcore/phases.hpp"
 #include "libcore/simulation.hpp"
+#include "physics/fluid/surface_tension.hpp"
 
 namespace poresph {
 
@@ -97,6 +98,8 @@ void FluidModule::configure(Simulation& sim, const std::vector<const Material*>&
     gamma_ = s.real("surface_tension", 0.0, Range::nonNegative());
     densityWeightedCsf_ =
         s.choice("surface_tension_weighting", "density", {"density", "none"}) == "density";
+    balancedCsf_ = s.choice("surface_tension_form", "csf", {"csf", "balanced"}) == "balanced";
+    curvatureSmoothing_ = s.real("curvature_smoothing", 2.0, Range::closed(0.0, 3.0));
     normalThreshold_ = s.real("normal_threshold", 0.05, Range::closed(0.0, 1.0));
     wallWetting_ = s.boolean("wall_wetting", true);
     wettingNormal_ = s.choice("wetting", "normal", {"normal", "colour"}) == "normal";
@@ -781,7 +784,7 @@ void FluidModule::forcesD(Simulation& sim) {
     Vec<D> aP = Vec<D>::Zero(), aV = Vec<D>::Zero(), aA = Vec<D>::Zero(), dvX = Vec<D>::Zero(),
            gradC = Vec<D>::Zero();
     double divv = 0.0, diff = 0.0;
-    const bool csfHere = gamma_ > 0.0 && itf[i];
+    const bool csfHere = gamma_ > 0.0 && itf[i] && !balancedCsf_;
     Vec<D> nU = Vec<D>::Zero(), nW = Vec<D>::Zero(), tv = Vec<D>::Zero();
     double kS = 0.0, wS = 0.0;
     for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
@@ -917,6 +920,23 @@ void FluidModule::forcesD(Simulation& sim) {
     }
   }
   });
+  if (balancedCsf_ && gamma_ > 0.0) {  // balanced-force CSF (surface_tension.cpp)
+    BalancedCsfArrays arr;
+    arr.x = x;
+    arr.m = m;
+    arr.rho = rho;
+    arr.phase = ph;
+    arr.motion = mo;
+    arr.colour = col;
+    arr.curvature = kap;
+    arr.interface = itf;
+    arr.acceleration = acc;
+    BalancedCsfSettings set;
+    set.gamma = gamma_;
+    set.huAdams = huAdams;
+    set.smoothingRadius = curvatureSmoothing_;
+    addBalancedSurfaceForce<D>(nl, W, n, arr, set, kappaWork_);
+  }
   if (nextFactor) {  // this evaluation's factors, for the next one (see above)
     std::memcpy(st.data(viscousFactor), nextFactor, sizeof(double) * static_cast<size_t>(n));
     st.refreshGhosts(viscousFactor);

@@ -35,15 +35,19 @@ struct SpuriousRow {
   double wall = 0;
 };
 
-inline SpuriousRow runSpurious2D(int rdx, double hOverDx = 1.0) {
+inline SpuriousRow runSpurious2D(int rdx, double hOverDx = 1.0, const std::string& extra = "",
+                                 const std::string& tag = "", double tRelax = 0.003,
+                                 double tEnd = 0.012, double backgroundPressure = 0.0) {
   Stopwatch clock;
   FluidDrop::Params p;
   p.dim = 2;
   p.rOverDx = rdx;
   p.hOverDx = hOverDx;
+  p.extra = extra;
+  p.backgroundPressure = backgroundPressure;
   FluidDrop d(p);
   const double period = d.B / p.cLiquid;
-  const FluidDrop::Measurement m = d.settleAndMeasure(0.003, 0.012, period);
+  const FluidDrop::Measurement m = d.settleAndMeasure(tRelax, tEnd, period);
   SpuriousRow r;
   r.rdx = rdx;
   r.hOverDx = hOverDx;
@@ -66,14 +70,14 @@ inline SpuriousRow runSpurious2D(int rdx, double hOverDx = 1.0) {
               rdx, hOverDx, r.particles, r.steps, r.dp, r.ref, 100 * r.err, 100 * r.swing, r.caEnd, r.caMean, r.caRms,
               r.rl / r.R, r.rg / r.R, r.wall);
   std::fflush(stdout);
-  d.dumpSlice("fluid_spurious_R" + std::to_string(rdx) + (std::abs(hOverDx - 1.0) < 1e-12 ? "" : "_h") + ".txt");
+  d.dumpSlice("fluid_spurious" + tag + "_R" + std::to_string(rdx) + (std::abs(hOverDx - 1.0) < 1e-12 ? "" : "_h") + ".txt");
   char hs[32];
   std::snprintf(hs, sizeof hs, "%.3f", hOverDx);
   const bool unitH = std::abs(hOverDx - 1.0) < 1e-12;
   const std::string res = "2D, R/dx = " + std::to_string(rdx) + ", periodic box 3R, quintic h = " +
                           (unitH ? std::string("dx") : std::string(hs) + " dx") +
-                          ", Oh = 1.1, c = 2 m/s, t = 12 ms, " + std::to_string(r.steps) + " steps";
-  const std::string cs = "fluid_spurious_currents_2d_R" + std::to_string(rdx) +
+                          ", Oh = 1.1, c = 2 m/s, t = " + std::to_string(static_cast<int>(std::lround(tEnd * 1e3))) + " ms, " + std::to_string(r.steps) + " steps";
+  const std::string cs = "fluid_spurious_currents_2d" + tag + "_R" + std::to_string(rdx) +
                          (unitH ? std::string() : "_h" + std::string(hs));
   recordValidation({cs, "spurious-current capillary number mu u_max / gamma (mean over the last 2.25 ms)",
                     r.caMean, 0.0, r.caMean, res, r.wall, "reported (asserted < 2e-2)",
