@@ -172,6 +172,53 @@ TEST(Reference, SectionParsedAndRefused) {
   EXPECT_NE(missing.find("needs a 2D or 3D scene"), std::string::npos) << missing;
 }
 
+TEST(Reference, StateQuantitiesOnAKnownState) {
+  // A 2D elastic plate 1 x 1 m of 10 x 10 particles; the stress set by hand to diag(1, 2) Pa:
+  // about the centre (0, 0) at the point (0.5, 0) the radial stress is sigma_xx = 1 and the hoop
+  // stress sigma_yy = 2; on the diagonal both are 1.5. material_volume of the box [0, 0.5]^2 is
+  // 25 particles x 0.01 m^2.
+  const std::string base = R"(dimension: 2
+domain: {lo: [0, 0], hi: [1, 1]}
+spacing: 0.1
+end_time: 1.0
+time_step: {dt: 1e-6}
+output: {every_steps: 10}
+materials:
+  - {name: rock, model: elastic, density: 2000, young_modulus: 1e9, poisson_ratio: 0.25}
+geometry:
+  - {shape: box, lo: [0, 0], hi: [1, 1], material: rock}
+)";
+  auto eval = [&](const std::string& ref) {
+    SceneOptions so;
+    so.initialise = false;
+    so.checkMemory = false;
+    Scene s = loadSceneText(base + ref, "plate.yaml", so);
+    ParticleStore& st = s.sim->store;
+    double* sig = st.data(st.real("stress"));
+    for (Index i = 0; i < st.realCount(); ++i) {
+      sig[4 * i + 0] = 1.0;  // (x, x)
+      sig[4 * i + 1] = 0.0;
+      sig[4 * i + 2] = 0.0;
+      sig[4 * i + 3] = 2.0;  // (y, y)
+    }
+    return evaluateReference(s, "");
+  };
+  ReferenceResult r = eval("reference: {quantity: hoop_stress, centre: [0, 0], point: [0.5, 0.02], value: 2}\n");
+  ASSERT_TRUE(r.ok) << r.note;
+  EXPECT_NEAR(r.measured, 2.0, 2e-3);  // e_r is not exactly x at (0.5, 0.02): 2 - sin^2(2.3 deg)
+  r = eval("reference: {quantity: radial_stress, centre: [0, 0], point: [0.5, 0.02]}\n");
+  EXPECT_NEAR(r.measured, 1.0, 2e-3);
+  r = eval("reference: {quantity: hoop_stress, centre: [0, 0], point: [0.5, 0.5]}\n");
+  EXPECT_NEAR(r.measured, 1.5, 1e-12);
+  r = eval("reference: {quantity: material_volume, material: rock, box: {min: [0, 0], max: [0.5, 0.5]}, scale: 2}\n");
+  EXPECT_NEAR(r.measured, 2 * 25 * 0.01, 1e-12);
+  r = eval("reference: {quantity: material_volume, material: water, box: {min: [0, 0], max: [1, 1]}}\n");
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.note.find("no material 'water'"), std::string::npos) << r.note;
+  r = eval("reference: {quantity: laplace_jump, centre: [0.5, 0.5], radius: 0.2}\n");
+  EXPECT_FALSE(r.ok);  // no fluid
+}
+
 TEST(Reference, TimeseriesQuantities) {
   const fs::path csv = fs::temp_directory_path() / ("test_study_ts_" + std::to_string(getpid()) + ".csv");
   {

@@ -42,7 +42,7 @@ TEST(StudyValidation, VibratingBarPeriodConvergesWithSpacing) {
   const double T = 5.27605e-5;
   test::recordValidation({"study_bar_period", "period from the study's reference (dx = L/200)",
                           rows[2].value, T, rows[2].error,
-                          "dx = L/50, L/100, L/200 (300-450 particles with clamped margins), cubic "
+                          "dx = L/50, L/100, L/200 (74 / 150 / 300 particles, clamped margins included), cubic "
                           "h = 1.3 dx, dt = 1e-8 s, 3 periods",
                           clock.seconds(), "error decreases with dx; < 0.06 % at L/200",
                           "closed form T = 2 L / c (thesis Ch. 3, Eq. 4)"});
