@@ -99,10 +99,24 @@ MemoryReport memoryReport(const Simulation& sim, std::uint64_t particles,
   }
   const double fieldBytes = static_cast<double>(st.bytesPerParticle()) +
                             (integratorBound ? 0.0 : r.lines.back().bytesPerParticle);
-  if (st.ghostCount() > 0 && nReal > 0)
+  if (st.ghostCount() > 0 && nReal > 0) {
     r.lines.push_back({"periodic ghosts", fieldBytes * static_cast<double>(st.ghostCount()) /
                                               static_cast<double>(nReal),
                        0.0, std::to_string(st.ghostCount()) + " ghosts, every field"});
+  } else if (sim.neighbours.realCount() == 0) {
+    // Before the halo exists: an image of every particle within the support of each periodic
+    // face (PeriodicHalo::build), edges and corners included, for particles filling the box.
+    double images = 1.0;
+    bool any = false;
+    for (int a = 0; a < d; ++a)
+      if (sim.domain.periodic[static_cast<size_t>(a)] && sim.domain.length(a) > 0.0) {
+        images *= 1.0 + 2.0 * sim.kernel.support() / sim.domain.length(a);
+        any = true;
+      }
+    if (any)
+      r.lines.push_back({"periodic ghosts", fieldBytes * (images - 1.0), 0.0,
+                         "estimate: support / periodic length, every field"});
+  }
   r.lines.push_back({"rollback copy", static_cast<double>(RollbackState::bytesPerParticle(st)),
                      0.0, "checkpoint and output fields (health: rollback_every)"});
   if (sim.neighbours.realCount() > 0) {

@@ -389,13 +389,18 @@ Scene buildScene(const YAML::Node& root, const std::string& file, const SceneOpt
     const double sOverDx = sim.kernel.support() / sim.spacing;
     const double neighbours = static_cast<double>(latticeNeighbourCount(dim, sOverDx));
     const MemoryReport report = memoryReport(sim, count.sites, neighbours);
-    double fields = 0.0, rollback = 0.0, lists = 0.0;
+    double fields = 0.0, ghosts = 0.0, rollback = 0.0, lists = 0.0;
     for (const auto& l : report.lines) {
       if (l.what.rfind("fields: ", 0) == 0) fields += l.bytesPerParticle;
+      else if (l.what == "periodic ghosts") ghosts += l.bytesPerParticle;
       else if (l.what == "rollback copy") rollback += l.bytesPerParticle;
       else lists += l.bytesPerParticle;
     }
-    for (const auto& m : sim.modules) fields += m->deferredBytesPerParticle(sim, neighbours);
+    double deferred = 0.0;
+    for (const auto& m : sim.modules) deferred += m->deferredBytesPerParticle(sim, neighbours);
+    // Periodic ghosts hold every field, the deferred ones too.
+    if (fields > 0.0) ghosts *= (fields + deferred) / fields;
+    fields += deferred + ghosts;
     mem.fieldBytesPerParticle = static_cast<std::uint64_t>(std::ceil(fields));
     mem.rollbackBytesPerParticle = static_cast<std::uint64_t>(std::ceil(rollback));
     mem.neighbourBytesPerParticle = static_cast<std::uint64_t>(std::ceil(lists));

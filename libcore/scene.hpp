@@ -56,7 +56,8 @@ struct SceneOptions {
 /// scratch, the run loop's rollback copy (libcore/health.hpp RollbackState), plus the neighbour
 /// lists (lattice estimate latticeNeighbourCount x 4 bytes + an 8-byte offset) and the search's
 /// per-particle arrays (16 + 8 D bytes): memoryReport() of libcore/memory.hpp. Periodic ghosts
-/// and the transient arrays of the geometry fill are not counted.
+/// are counted in the fields (support / periodic length of every field); the transient arrays of
+/// the geometry fill and of initialise() are not.
 struct MemoryEstimate {
   std::uint64_t particles = 0;
   /// Registered fields, the integrator's scratch and the fields modules register in

@@ -202,3 +202,52 @@ geometry:
   EXPECT_TRUE(found);
   EXPECT_GT(r.foreignBytesPerParticle, 0.0);
 }
+
+TEST(MemoryReport, PeriodicGhostsAreEstimatedBeforeTheHaloAndMeasuredAfter) {
+  // Water periodic along x (length 0.02 m), walls below: ghosts are the particles within the
+  // support (2 x 1.3 dx) of the two x faces, every field each.
+  const char* text = R"(dimension: 2
+domain: {lo: [0.0, -0.003], hi: [0.02, 0.013], periodic: [true, false]}
+spacing: 0.001
+kernel: wendland_c2
+end_time: 1.0
+time_step: {adaptive: true}
+output: {every_steps: 100}
+materials:
+  - {name: water, model: fluid, density: 1000, sound_speed: 10, viscosity: 1.0e-3}
+  - {name: steel, model: wall, density: 1000}
+geometry:
+  - {shape: box, lo: [0.0, -0.003], hi: [0.02, 0.0], material: steel}
+  - {shape: box, lo: [0.0, 0.0], hi: [0.02, 0.01], material: water}
+fluid:
+  gravity: [0, -9.81]
+)";
+  SceneOptions opt;
+  opt.buildParticles = false;
+  Scene before = loadSceneText(text, "periodic_count.yaml", opt);
+  const MemoryReport r = memoryReport(*before.sim, 0, 20.0);
+  double fields = 0.0, ghosts = -1.0;
+  for (const auto& l : r.lines) {
+    if (l.what.rfind("fields: ", 0) == 0) fields += l.bytesPerParticle;
+    if (l.what == "periodic ghosts") ghosts = l.bytesPerParticle;
+  }
+  const double support = before.sim->kernel.support();
+  EXPECT_NEAR(ghosts, fields * 2.0 * support / 0.02, 1e-9 * fields);
+  // The scene's estimate counts them with the fields.
+  EXPECT_GE(before.memory.fieldBytesPerParticle, static_cast<std::uint64_t>(fields + ghosts));
+
+  // After the halo: measured, close to the estimate (2 x 2.6 columns of 20: 2 x 3 columns built).
+  Scene after = loadSceneText(text, "periodic_built.yaml");
+  ASSERT_GT(after.sim->store.ghostCount(), 0);
+  const MemoryReport m = memoryReport(*after.sim, 0, 0.0);
+  double measured = -1.0, allFields = 0.0;  // fields incl. the integrator's (not yet bound)
+  for (const auto& l : m.lines) {
+    if (l.what == "periodic ghosts") measured = l.bytesPerParticle;
+    if (l.what.rfind("fields: ", 0) == 0) allFields += l.bytesPerParticle;
+  }
+  const double share = static_cast<double>(after.sim->store.ghostCount()) /
+                       static_cast<double>(after.sim->store.realCount());
+  EXPECT_NEAR(share, 6.0 / 20.0, 1e-12);
+  EXPECT_GT(allFields, static_cast<double>(after.sim->store.bytesPerParticle()));
+  EXPECT_NEAR(measured, allFields * share, 1e-9);
+}
