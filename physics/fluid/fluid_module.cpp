@@ -599,24 +599,31 @@ void FluidModule::constitutiveD(Simulation& sim) {
   Vec<D> g;
   for (int a = 0; a < D; ++a) g[a] = gravity_[static_cast<size_t>(a)];
   // Only boundary particles with a fluid neighbour are extrapolated (issue 17): they are
-  // flagged from the fluid particles' lists (the lists are symmetric; a ghost neighbour flags
-  // its source), so that the neighbours of the dry boundary (in a rock scene ~87 % of the
-  // particles are solid) are not swept. The others get p = 0 and v~ = v, what the sweep gave
-  // them (no fluid neighbour: sum W = 0).
+  // flagged from the fluid particles' candidate lists (Simulation::neighbourCandidates: the
+  // lists are symmetric; a ghost neighbour flags its source), so that the neighbours of the
+  // dry boundary (in a rock scene ~87 % of the particles are solid) are not swept. The flags
+  // are a superset of the wet boundary until the next neighbour search, so with a Verlet skin
+  // they are refreshed only then. The others get p = 0 and v~ = v, what the sweep gave them
+  // (no fluid neighbour: sum W = 0), and so does a flagged one without a fluid neighbour now.
   if (wetFlag_.size() < static_cast<size_t>(n)) wetFlag_.resize(static_cast<size_t>(n));
   unsigned char* wet = wetFlag_.data();
-  const Index* ghostSource = st.ghostSources().data();
+  if (wetBuild_ != sim.neighbourBuilds() || wetCount_ != st.size()) {
+    wetBuild_ = sim.neighbourBuilds();
+    wetCount_ = st.size();
+    const auto& cl = sim.neighbourCandidates();
+    const Index* ghostSource = st.ghostSources().data();
 #pragma omp parallel for schedule(static)
-  for (Index i = 0; i < n; ++i) wet[i] = 0;
+    for (Index i = 0; i < n; ++i) wet[i] = 0;
 #pragma omp parallel for schedule(static)
-  for (Index i = 0; i < n; ++i) {
-    if (ph[i] != kPhaseFluid) continue;
-    for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
-      const Index j = nl.index[static_cast<size_t>(k)];
-      if (ph[j] == kPhaseFluid) continue;
-      const Index b = j < n ? j : ghostSource[j - n];
+    for (Index i = 0; i < n; ++i) {
+      if (ph[i] != kPhaseFluid) continue;
+      for (auto k = cl.offset[i]; k < cl.offset[i + 1]; ++k) {
+        const Index j = cl.index[static_cast<size_t>(k)];
+        if (ph[j] == kPhaseFluid) continue;
+        const Index b = j < n ? j : ghostSource[j - n];
 #pragma omp atomic write
-      wet[b] = 1;
+        wet[b] = 1;
+      }
     }
   }
 #pragma omp parallel for schedule(dynamic, 512)
@@ -752,14 +759,18 @@ void FluidModule::forcesD(Simulation& sim) {
     if (fluids != 1) single = nullptr;
   }
   if (single && wallRho_.size() < static_cast<size_t>(nAll)) wallRho_.resize(static_cast<size_t>(nAll));
+  if (pRho2_.size() < static_cast<size_t>(nAll)) pRho2_.resize(static_cast<size_t>(nAll));
   double* volW = vol_.data();
+  double* pRho2W = pRho2_.data();
   double* wallRhoW = single ? wallRho_.data() : nullptr;
 #pragma omp parallel for schedule(static)
   for (Index j = 0; j < nAll; ++j) {
     volW[j] = m[j] / rho[j];
+    pRho2W[j] = (p[j] - pOff) / (rho[j] * rho[j]);  // Eq. 5.2b's p_b / rho_b^2
     if (wallRhoW) wallRhoW[j] = ph[j] == kPhaseFluid ? 0.0 : densityOf(*single, p[j]);
   }
   const double* vol = volW;
+  const double* pRho2 = pRho2W;
   const double* wallRho = wallRhoW;
   W.withFixedType<D>([&](const auto K) {
 #pragma omp parallel for schedule(dynamic, 256)
@@ -866,8 +877,8 @@ void FluidModule::forcesD(Simulation& sim) {
         aP -= (vv * pt) * gradW;
         aV += (fab * vv * 0.5 * muBar * F) * vab;
       } else {
-        aP -= (mb * ((pa - pOff) / (rhoa * rhoa) + (pb - pOff) / (rhob * rhob))) * gradW;  // Eq. 5.2b
-        aV += (fab * muBar * Vb * F / rhoa) * vab;                        // Eq. 5.4
+        aP -= (mb * (pRho2[i] + pRho2[j])) * gradW;  // Eq. 5.2b
+        if (muBar != 0.0) aV += (fab * muBar * Vb * F / rhoa) * vab;  // Eq. 5.4 (0 if inviscid)
       }
       divv += Vb * (va - vb).dot(gradW);  // Eq. 5.1a
       if (artificialViscosity_ > 0.0) {

@@ -111,8 +111,9 @@ class FluidModule : public Module {
   std::vector<MaterialData> mat_;  // by material id
   // Scratch of the force loop (sized once, no allocation in the time loop): V = m / rho of every
   // particle, and the single fluid's density at each boundary particle's pressure.
-  std::vector<double> vol_, wallRho_;
+  std::vector<double> vol_, wallRho_, pRho2_;  // pRho2_: (p - p_ref) / rho^2 (Eq. 5.2b)
   std::vector<unsigned char> wetFlag_;  // constitutive stage: boundary particle has a fluid neighbour
+  Index wetBuild_ = -1, wetCount_ = -1;  // neighbour search and store size of the flags
   std::vector<double> gravity_;
   std::vector<BodyForce> bodyForces_;
   bool summation_ = false;
