@@ -568,22 +568,23 @@ void ElasticSolidModule::initialiseDim(Simulation& sim) {
   if (nm > 0)
     computeCorrection<D>(Correction::Mixed, W, Xm.data(), Vm.data(), nm, ref, buffer.arrays());
   const CorrectionView view = buffer.view(Correction::Mixed, W);
-  std::vector<std::vector<std::pair<Index, Vec<D>>>> pairs(static_cast<size_t>(nm));
-#pragma omp parallel for schedule(static) if (nm > 512)
-  for (Index k = 0; k < nm; ++k) {
-    const Vec<D> Xi = Eigen::Map<const Vec<D>>(Xm.data() + k * D);
-    const auto b0 = ref.offset[static_cast<size_t>(k)], b1 = ref.offset[static_cast<size_t>(k) + 1];
-    auto& list = pairs[static_cast<size_t>(k)];
-    list.reserve(static_cast<size_t>(b1 - b0));
-    for (auto p = b0; p < b1; ++p) {
-      const Index kx = ref.index[static_cast<size_t>(p)];  // a particle or an image
-      const Vec<D> r = Xi - Eigen::Map<const Vec<D>>(Xm.data() + kx * D);
-      list.emplace_back(origin[static_cast<size_t>(kx)],
-                        view.gradient<D>(k, W.gradient<D>(r), W.value(r.norm())));
-    }
-    std::sort(list.begin(), list.end(),
-              [](const auto& a, const auto& b) { return a.first < b.first; });
-  }
+  // Corrected gradient of the pair (k, ref entry p) from both ends, computed where needed (no
+  // per-pair table: a table of both gradients was the largest allocation of a 3D start, ~3.4 kB
+  // per solid particle on top of the family itself):
+  //   g_ab = grad~_a W~ at a = k with r = X_a - X_b,  g_ba = grad~_b W~ at b = origin with -r.
+  // (-r is exact and grad W(-r) = -grad W(r) bitwise, so g_ba equals what b's own row holds.)
+  auto forward = [&](Index k, std::int64_t p) {
+    const Index kx = ref.index[static_cast<size_t>(p)];  // a particle or an image
+    const Vec<D> r = Eigen::Map<const Vec<D>>(Xm.data() + k * D) -
+                     Eigen::Map<const Vec<D>>(Xm.data() + kx * D);
+    return view.gradient<D>(k, W.gradient<D>(r), W.value(r.norm()));
+  };
+  auto backward = [&](Index k, std::int64_t p) {
+    const Index kx = ref.index[static_cast<size_t>(p)];
+    const Vec<D> r = Eigen::Map<const Vec<D>>(Xm.data() + kx * D) -
+                     Eigen::Map<const Vec<D>>(Xm.data() + k * D);
+    return view.gradient<D>(origin[static_cast<size_t>(kx)], W.gradient<D>(r), W.value(r.norm()));
+  };
   // Imposed traction / pressure: nominal force per particle (reference configuration). The
   // outward normal of a pressure boundary is -grad(sum_b V_b W_ab) (the Shepard sum decreases
   // outwards).
@@ -605,12 +606,10 @@ void ElasticSolidModule::initialiseDim(Simulation& sim) {
       // surface applies the pressure there, and a body under uniform pressure on all its
       // surfaces is then in exact discrete equilibrium.
       Vec<D> g = Vec<D>::Zero();
-      for (const auto& pr : pairs[static_cast<size_t>(k)]) {
-        const Index kj = pr.first;
-        const auto& other = pairs[static_cast<size_t>(kj)];
-        auto it = std::lower_bound(other.begin(), other.end(), k,
-                                   [](const auto& e, Index key) { return e.first < key; });
-        g += volume(mine[static_cast<size_t>(kj)]) * (pr.second - it->second);
+      for (auto p = ref.offset[static_cast<size_t>(k)]; p < ref.offset[static_cast<size_t>(k) + 1];
+           ++p) {
+        const Index kj = origin[static_cast<size_t>(ref.index[static_cast<size_t>(p)])];
+        g += volume(mine[static_cast<size_t>(kj)]) * (forward(k, p) - backward(k, p));
       }
       force = B.pressure * volume(i) * g;
     }
@@ -644,26 +643,52 @@ void ElasticSolidModule::initialiseDim(Simulation& sim) {
   double* GR = compactFamily_ ? nullptr : s.data(famRevGrad_);
   const std::int32_t* ids = s.data(s.id());
   std::memset(famN, 0, sizeof(std::int32_t) * static_cast<size_t>(n));
+  // Rows written in place, members in the order of their solid index b (fam holds b until the
+  // last pass turns it into b's particle id), each with g_ab and g_ba.
+#pragma omp parallel if (nm > 512)
+  {
+    std::vector<std::pair<Index, std::int64_t>> order;  // (b, ref entry), one row at a time
+#pragma omp for schedule(static)
+    for (Index k = 0; k < nm; ++k) {
+      const Index i = mine[static_cast<size_t>(k)];
+      const auto b0 = ref.offset[static_cast<size_t>(k)], b1 = ref.offset[static_cast<size_t>(k) + 1];
+      order.clear();
+      for (auto p = b0; p < b1; ++p)
+        order.emplace_back(origin[static_cast<size_t>(ref.index[static_cast<size_t>(p)])], p);
+      std::sort(order.begin(), order.end());
+      famN[i] = static_cast<std::int32_t>(order.size());
+      for (size_t q = 0; q < order.size(); ++q) {
+        const Index at = i * cap + static_cast<Index>(q);
+        fam[at] = static_cast<std::int32_t>(order[q].first);
+        const Vec<D> g = forward(k, order[q].second);
+        for (int a = 0; a < D; ++a) G[at * D + a] = g[a];
+        if (GR) {
+          const Vec<D> gr = backward(k, order[q].second);
+          for (int a = 0; a < D; ++a) GR[at * D + a] = gr[a];
+        }
+      }
+    }
+  }
+  // Compact: the slot of a in b's row (families are symmetric: same radius), then ids.
+  if (revSlot) {
+#pragma omp parallel for schedule(static) if (nm > 512)
+    for (Index k = 0; k < nm; ++k) {
+      const Index i = mine[static_cast<size_t>(k)];
+      for (Index q = 0; q < famN[i]; ++q) {
+        const Index bi = mine[static_cast<size_t>(fam[i * cap + q])];
+        const std::int32_t* row = fam + bi * cap;
+        const std::int32_t* it = std::lower_bound(row, row + famN[bi], static_cast<std::int32_t>(k));
+        if (it == row + famN[bi] || *it != k)
+          throw std::logic_error("solid module: reference family is not symmetric");
+        revSlot[i * cap + q] = static_cast<std::int32_t>(it - row);
+      }
+    }
+  }
 #pragma omp parallel for schedule(static) if (nm > 512)
   for (Index k = 0; k < nm; ++k) {
     const Index i = mine[static_cast<size_t>(k)];
-    const auto& list = pairs[static_cast<size_t>(k)];
-    famN[i] = static_cast<std::int32_t>(list.size());
-    for (size_t q = 0; q < list.size(); ++q) {
-      const Index kj = list[q].first;
-      fam[i * cap + static_cast<Index>(q)] = ids[mine[static_cast<size_t>(kj)]];
-      for (int a = 0; a < D; ++a) G[(i * cap + static_cast<Index>(q)) * D + a] = list[q].second[a];
-      // reverse gradient g_ba, from b's list (families are symmetric: same radius)
-      const auto& other = pairs[static_cast<size_t>(kj)];
-      auto it = std::lower_bound(other.begin(), other.end(), k,
-                                 [](const auto& e, Index key) { return e.first < key; });
-      if (it == other.end() || it->first != k)
-        throw std::logic_error("solid module: reference family is not symmetric");
-      if (revSlot)
-        revSlot[i * cap + static_cast<Index>(q)] = static_cast<std::int32_t>(it - other.begin());
-      else
-        for (int a = 0; a < D; ++a) GR[(i * cap + static_cast<Index>(q)) * D + a] = it->second[a];
-    }
+    for (Index q = 0; q < famN[i]; ++q)
+      fam[i * cap + q] = ids[mine[static_cast<size_t>(fam[i * cap + q])]];
   }
   // F = 1 at the start
   double* F = s.data(defGrad_);
