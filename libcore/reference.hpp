@@ -17,7 +17,7 @@
 //   spurious_capillary_number   Ca = mu u_max / gamma: the largest fluid speed times the largest
 //                               fluid viscosity over the surface tension (`surface_tension`, else
 //                               the scene's fluid.surface_tension); the spurious currents of a
-//                               static drop (thesis Sec. 5.2.2); its reference value is 0
+//                               static drop (CSF, thesis Eqs. 5.6-5.8); its reference value is 0
 //   hoop_stress, radial_stress  sigma_tt / sigma_rr about `centre` at `point`: a Shepard kernel
 //                               average of the stress of the solid particles around `point`
 //                               (Kirsch, Lame); place it more than a kernel support away from
