@@ -3,14 +3,14 @@
 #
 #   scripts/run_studies.sh [--out DIR] [NAME ...]       (default DIR: runs/studies; all studies)
 #
-# NAME: bar, bar_edge, droplet, droplet_edge, spurious, lame, lame_edge, entry. Each runs
+# NAME: bar, bar_edge, droplet, droplet_edge, spurious, spurious_form, lame, lame_edge, entry. Each runs
 # `poresph study` on one thread (OMP_NUM_THREADS=1, --threads 1) into DIR/NAME and copies its
 # DIR/NAME/study.png to docs/img/study_NAME.png. Run from the repository root after a build.
 set -u
 out=runs/studies
 if [ "${1:-}" = "--out" ]; then out=$2; shift 2; fi
 names=("$@")
-[ ${#names[@]} -eq 0 ] && names=(bar bar_edge droplet droplet_edge spurious lame lame_edge entry)
+[ ${#names[@]} -eq 0 ] && names=(bar bar_edge droplet droplet_edge spurious spurious_form lame lame_edge entry)
 exe=build/poresph
 export OMP_NUM_THREADS=1
 study() {  # NAME SCENE ARGS...
@@ -36,6 +36,9 @@ for n in "${names[@]}"; do
     spurious)  # spurious currents Ca = mu u_max / gamma
       study spurious studies/static_droplet_spurious.yaml --vary spacing=3e-4,2.25e-4,1.5e-4,1e-4 \
         --vary kernel=quintic,wendland --vary h_over_dx=1.0,1.5 ;;
+    spurious_form)  # CSF against balanced-force CSF (a module option by its key path)
+      study spurious_form studies/static_droplet_spurious.yaml --vary spacing=3e-4,1.5e-4,1e-4 \
+        --vary fluid.surface_tension_form=csf,balanced --set kernel=wendland_c2 --set h_over_dx=1.5 ;;
     lame)      # hoop stress at 1.5 a against the closed form
       study lame studies/lame.yaml --vary spacing=1e-3,5e-4,2.5e-4 --vary kernel=cubic,wendland \
         --vary h_over_dx=1.3,1.6 ;;
@@ -43,6 +46,6 @@ for n in "${names[@]}"; do
       study lame_edge studies/lame.yaml --vary cfl=0.5,1.0 --vary h_over_dx=0.6,0.8,1.3 ;;
     entry)     # gas penetration into the slit against the finest run
       study entry studies/capillary_entry.yaml --vary spacing=2e-4,1e-4,5e-5 ;;
-    *) echo "unknown study '$n' (bar, bar_edge, droplet, droplet_edge, spurious, lame, lame_edge, entry)"; exit 2 ;;
+    *) echo "unknown study '$n' (bar, bar_edge, droplet, droplet_edge, spurious, spurious_form, lame, lame_edge, entry)"; exit 2 ;;
   esac
 done
