@@ -28,9 +28,9 @@ TEST(FluidSurfaceBalanced, DISABLED_Probe) {
 // steady current); the balanced form lowers them by ~10 % at 12 ms and ~25 % at 24 ms.
 TEST(FluidSurfaceBalanced, Droplet2DAgainstCsf) {
   const std::string bal = ", surface_tension_form: balanced";
-  const SpuriousRow b12 = runSpurious2D(10, 1.0, bal, "_balanced", 0.003, 0.012);
-  const SpuriousRow b24 = runSpurious2D(10, 1.0, bal, "_balanced", 0.003, 0.024);
-  const SpuriousRow c24 = runSpurious2D(10, 1.0, "", "_csf", 0.003, 0.024);
+  const SpuriousRow b12 = runSpurious2D(10, 1.0, bal, "_balanced_12ms", 0.003, 0.012);
+  const SpuriousRow b24 = runSpurious2D(10, 1.0, bal, "_balanced_24ms", 0.003, 0.024);
+  const SpuriousRow c24 = runSpurious2D(10, 1.0, "", "_csf_24ms", 0.003, 0.024);
   std::printf("Ca 12 ms balanced %.3e; 24 ms balanced %.3e, csf %.3e (ratio %.2f)\n", b12.caMean,
               b24.caMean, c24.caMean, b24.caMean / c24.caMean);
   EXPECT_LT(b12.err, 0.03);
