@@ -153,12 +153,76 @@ void RigidModule::configure(Simulation& sim, const std::vector<const Material*>&
   ParticleStore& st = sim.store;
   body_ = st.addInt("body", 1, kFieldDefault, "rigid");
   offset_ = st.addReal("body_offset", d, kFieldCheckpoint, "rigid");
+  surface_ = st.addInt("body_surface", 1, kFieldCheckpoint | kFieldConstant, "rigid");
   // Bonded rigid-solid interfaces only where a material asks for them.
   bonds_ = std::any_of(mats_.begin(), mats_.end(), [](const RigidMaterial& r) { return r.bonded; });
   if (bonds_) {
     bondBody_ = st.addInt("bond_body", 1, kFieldCheckpoint, "rigid");
     bondAnchor_ = st.addReal("bond_anchor", d, kFieldCheckpoint, "rigid");
   }
+}
+
+// ---------------------------------------------------------------------------------------------
+// surface particles (App. A.2): a body particle is on the surface when a lattice site within one
+// kernel support of it holds no particle of its body. Interior particles can only have
+// neighbours of their own body (which exert no force), so the pair loop skips them.
+// ---------------------------------------------------------------------------------------------
+void RigidModule::findSurface(Simulation& sim) {
+  ParticleStore& st = sim.store;
+  const int d = dim_;
+  const Index n = st.realCount();
+  const double* x = st.data(st.position());
+  const std::int32_t* body = st.data(body_);
+  std::int32_t* surf = st.data(surface_);
+  const double dx = sim.spacing;
+  const Domain& dom = sim.domain;
+  std::array<long long, 3> cells{1, 1, 1};
+  for (int a = 0; a < d; ++a)
+    cells[static_cast<size_t>(a)] = std::max<long long>(1, std::llround(dom.length(a) / dx));
+  auto cellOf = [&](Index i) {
+    std::array<long long, 3> c{0, 0, 0};
+    for (int a = 0; a < d; ++a)
+      c[static_cast<size_t>(a)] =
+          std::llround((x[i * d + a] - dom.lo[static_cast<size_t>(a)]) / dx - 0.5);
+    return c;
+  };
+  auto key = [](const std::array<long long, 3>& c) {
+    return static_cast<unsigned long long>(c[0] & 0x1FFFFF) |
+           (static_cast<unsigned long long>(c[1] & 0x1FFFFF) << 21) |
+           (static_cast<unsigned long long>(c[2] & 0x1FFFFF) << 42);
+  };
+  std::unordered_map<unsigned long long, std::int32_t> site;
+  for (Index i = 0; i < n; ++i)
+    if (body[i] >= 0) site[key(cellOf(i))] = body[i];
+  const double reach = sim.kernel.support() / dx;
+  const int span = static_cast<int>(std::ceil(reach));
+  for (Index i = 0; i < n; ++i) {
+    surf[i] = 0;
+    if (body[i] < 0) continue;
+    const std::array<long long, 3> c = cellOf(i);
+    bool onSurface = false;
+    for (int ox = -span; ox <= span && !onSurface; ++ox)
+      for (int oy = (d > 1 ? -span : 0); oy <= (d > 1 ? span : 0) && !onSurface; ++oy)
+        for (int oz = (d > 2 ? -span : 0); oz <= (d > 2 ? span : 0) && !onSurface; ++oz) {
+          if (ox * ox + oy * oy + oz * oz > reach * reach) continue;
+          std::array<long long, 3> q{c[0] + ox, c[1] + oy, c[2] + oz};
+          for (int a = 0; a < d; ++a)
+            if (dom.periodic[static_cast<size_t>(a)]) {
+              const long long m = cells[static_cast<size_t>(a)];
+              q[static_cast<size_t>(a)] = ((q[static_cast<size_t>(a)] % m) + m) % m;
+            }
+          const auto it = site.find(key(q));
+          if (it == site.end() || it->second != body[i]) onSurface = true;
+        }
+    surf[i] = onSurface ? 1 : 0;
+  }
+}
+
+Index RigidModule::surfaceParticles(const Simulation& sim) const {
+  const std::int32_t* surf = sim.store.data(surface_);
+  Index count = 0;
+  for (Index i = 0; i < sim.store.realCount(); ++i) count += surf[i];
+  return count;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -596,6 +660,7 @@ void RigidModule::initialise(Simulation& sim) {
     viscousFactor_ = st.has("viscous_factor") ? st.real("viscous_factor") : RealField{};
     densityRate_ = st.has("density_rate") ? st.real("density_rate") : RealField{};
   }
+  findSurface(sim);
   if (bonds_) initialiseBonds(sim);
   threads_ = std::max(1, omp_get_max_threads());
   partial_.assign(static_cast<size_t>(threads_) * bodies_.size() * 9, 0.0);
@@ -712,6 +777,7 @@ void RigidModule::interfacesD(Simulation& sim) {
   const FluidPairSettings settings = sim.fluidPairSettings;
   const BoundaryModel model = fluidModel_;
   const std::int32_t* bondBody = bonds_ ? st.data(bondBody_) : nullptr;
+  const std::int32_t* surf = st.data(surface_);
   if (bonds_) bodyPlacement<D>(sim);
 
   auto isFluid = [&](Index i) {
@@ -764,6 +830,7 @@ void RigidModule::interfacesD(Simulation& sim) {
       }
       for (int c = 0; c < D; ++c) acc[i * D + c] += f[c] / m[i];
     } else if (phi == kPhaseRigid) {
+      if (!surf[i]) continue;  // interior: only its own body within reach (A.2)
       Vec<D> f = Vec<D>::Zero();
       for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
         const Index j = nl.index[static_cast<size_t>(k)];

@@ -117,6 +117,9 @@ class RigidModule : public Module {
 
   // ---- for tests and tools ----
   const std::vector<RigidBody>& bodies() const { return bodies_; }
+  /// Body particles within one kernel support of their body's surface (App. A.2: only these take
+  /// part in the pair sums; the others can meet no particle of another body or phase).
+  Index surfaceParticles(const Simulation& sim) const;
   /// Sets a body's velocity and angular velocity (world frame) and re-places its particles.
   void setBodyVelocity(Simulation& sim, size_t body, const rigid::V3& V, const rigid::V3& omega);
   /// Force of its bond on solid particle i (zero if not bonded), at the last evaluation's body
@@ -130,6 +133,7 @@ class RigidModule : public Module {
   template <int D> void constraintsD(Simulation& sim);
   template <int D> void placeD(Simulation& sim, int onlyBody);
   void initialiseBonds(Simulation& sim);
+  void findSurface(Simulation& sim);
   /// Force of its bond on solid particle i (zero-length spring to its anchor point, which moves
   /// with the body: f = -K (x_i - X - R r_anchor), minimal image across periodic faces); the body
   /// receives -f at the anchor point (parallel to the spring: no net couple). Also returns the
@@ -150,6 +154,7 @@ class RigidModule : public Module {
   BoundaryModel fluidModel_ = BoundaryModel::Mirror;
   IntField body_;
   RealField offset_;
+  IntField surface_;  // body particles within one kernel support of the body's surface (A.2)
   bool bonds_ = false;           // some rigid material is bonded: fields below allocated
   IntField bondBody_;            // solid particles: bonded body (-1: none)
   RealField bondAnchor_;         // solid particles: anchor in the body frame

@@ -184,3 +184,44 @@ TEST(Rigid, ImageInclusionClustersBecomeBodies) {
   std::sort(counts.begin(), counts.end());
   EXPECT_EQ(counts, (std::vector<Index>{4, 4, 6}));
 }
+
+// App. A.2: only body particles within one kernel support of the surface take part in the pair
+// sums. A 12 x 12 box with the Wendland support 2.6 dx: the particles 3 or more sites from every
+// face are interior (a site 2 away along an axis, or (2, 1) away, is within 2.6 dx), so 8 x 8 = 64
+// of 144 are interior. A 3D ball of radius 8 dx prints its surface share (the pair loop's saving).
+TEST(Rigid, OnlyParticlesWithinOneSupportOfTheSurfaceArePairParticles) {
+  Scene s = loadSceneText(R"(dimension: 2
+domain: {lo: [0, 0], hi: [0.02, 0.02]}
+spacing: 0.001
+kernel: wendland_c2
+end_time: 0.001
+time_step: {dt: 1.0e-4}
+output: {every_steps: 1000000}
+materials:
+  - {name: grain, model: rigid, density: 2650}
+geometry:
+  - {shape: box, lo: [0.004, 0.004], hi: [0.016, 0.016], material: grain}
+)", "surface.yaml");
+  auto* rigid = dynamic_cast<RigidModule*>(s.sim->module("rigid"));
+  ASSERT_NE(rigid, nullptr);
+  EXPECT_EQ(rigid->surfaceParticles(*s.sim), 80);
+  Scene ball = loadSceneText(R"(dimension: 3
+domain: {lo: [0, 0, 0], hi: [0.02, 0.02, 0.02]}
+spacing: 0.001
+kernel: wendland_c2
+end_time: 0.001
+time_step: {dt: 1.0e-4}
+output: {every_steps: 1000000}
+materials:
+  - {name: grain, model: rigid, density: 2650}
+geometry:
+  - {shape: sphere, centre: [0.01, 0.01, 0.01], radius: 0.008, material: grain}
+)", "ball.yaml");
+  auto* rb = dynamic_cast<RigidModule*>(ball.sim->module("rigid"));
+  const Index total = rb->bodies()[0].count, surface = rb->surfaceParticles(*ball.sim);
+  std::printf("  ball of radius 8 dx: %lld of %lld particles on the surface (%.0f %%)\n",
+              static_cast<long long>(surface), static_cast<long long>(total),
+              100.0 * static_cast<double>(surface) / static_cast<double>(total));
+  EXPECT_LT(surface, total);
+  EXPECT_GT(surface, total / 3);
+}
