@@ -63,3 +63,27 @@ TEST(DISABLED_Probe, TiltedSessile) {
                                         envs("PROBE_EXTRA", ""));
   EXPECT_GT(r.theta, 0.0);
 }
+
+// Wetting at 30 and 150 degrees on a flat lattice-aligned wall (issue 14 item 4), one setting
+// (wetting: normal, wetting_scale 0.15) at two resolutions, rectangle start, 60 ms: the model does
+// NOT reach the angle (measured 48.7 / 51.4 deg for 30 at R0/dx 10 / 15, 130.6 / 125.6 for 150;
+// the 30-degree drop is still spreading: 44.5 at 90 ms, 37.8 at 180 ms, R0/dx 10). Recorded as a
+// failing row against the issue's 5 degrees; asserted only against regression (3 degrees worse
+// than measured). This is why the 30-degree capillary entry is 20-30 % low (docs/fluid.md).
+TEST(FluidWettingExtremes, Angles30And150FlatWallTwoResolutions) {
+  struct Case { double theta; int rdx; double measured; };
+  for (const Case c : {Case{30, 10, 48.71}, Case{30, 15, 51.38}, Case{150, 10, 130.57}, Case{150, 15, 125.56}}) {
+    const auto r = test::runTiltedSessile(c.theta, 0.0, c.rdx, 0.06, false);
+    char cs[96], res[200];
+    std::snprintf(cs, sizeof cs, "fluid_wetting_flat_theta%.0f_R%d", c.theta, c.rdx);
+    std::snprintf(res, sizeof res,
+                  "2D flat lattice-aligned wall, R0/dx = %d, rectangle start, quintic h = dx, Oh = 0.18, equal densities, "
+                  "p_b = 100 Pa, t = 60 ms, %lld steps", c.rdx, r.steps);
+    test::recordValidation({cs, "contact angle (degrees), circle fit above 2 dx", r.theta, c.theta,
+                            std::abs(r.theta - c.theta) / c.theta, res, r.wall,
+                            "issue target |error| < 5 deg: NOT met; asserted within 3 deg of the measured level",
+                            "prescribed wall angle (Eq. 1.10), wetting: normal"});
+    if (c.theta < 90) EXPECT_LT(r.theta, c.measured + 3.0) << "R0/dx " << c.rdx;
+    else EXPECT_GT(r.theta, c.measured - 3.0) << "R0/dx " << c.rdx;
+  }
+}
