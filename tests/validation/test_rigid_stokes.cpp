@@ -50,13 +50,15 @@ StokesResult runStokes(int perRadius, double cell, double endTime) {
     << "  - {shape: sphere, centre: [" << L / 2 << ", " << L / 2 << "], radius: " << a
     << ", material: disc}\n";
   // count the disc's particles from a first load, then set the balancing fluid gravity
+  const char* model = std::getenv("RIGID_STOKES_MODEL");  // probe: fluid_rigid boundary model
+  const std::string extra = model ? std::string(", fluid_rigid: ") + model : std::string();
   Scene probe = loadSceneText(y.str() + "rigid: {gravity: [1, 0]}\n", "rigid_stokes.yaml");
   auto* r0 = dynamic_cast<RigidModule*>(probe.sim->module("rigid"));
   const double Nb = static_cast<double>(r0->bodies()[0].count);
   const double Nf = static_cast<double>(probe.sim->store.realCount()) - Nb;
   std::ostringstream g;
   g.precision(12);
-  g << "rigid: {gravity: [" << G << ", 0]}\nfluid: {gravity: [" << -G * Nb / Nf << ", 0]}\n";
+  g << "rigid: {gravity: [" << G << ", 0]" << extra << "}\nfluid: {gravity: [" << -G * Nb / Nf << ", 0]}\n";
   Scene s = loadSceneText(y.str() + g.str(), "rigid_stokes.yaml");
   Simulation& sim = *s.sim;
   auto* rigid = dynamic_cast<RigidModule*>(sim.module("rigid"));
