@@ -25,3 +25,15 @@ TEST(FluidSpuriousCurrents, Droplet2DGrowingNeighbourCount) {
   poresph::test::checkSpuriousRows(rows, "fluid_spurious_currents_2d_order_h_sqrt_dx");
   EXPECT_LT(rows.back().caMean, 0.5 * rows.front().caMean);
 }
+
+// Convergence to R/dx = 40 at h = dx (issue 14): asserted, and FAILING on the present code
+// (measured on a loaded machine, 321 s CPU for R/dx 40: Ca 4.38e-3 -> 4.21e-3 from R/dx 20 to
+// 40, i.e. no convergence; the jump error grows from 1.03 % to 5.57 %). Kept as the statement of
+// what has to hold: Ca must fall by 20 % per doubling of R/dx and the jump stay within 2 %.
+TEST(FluidSpuriousCurrents, Droplet2DResolution40Converges) {
+  std::vector<poresph::test::SpuriousRow> rows;
+  for (int rdx : {20, 40}) rows.push_back(poresph::test::runSpurious2D(rdx));
+  poresph::test::checkSpuriousRows(rows, "fluid_spurious_currents_2d_order_R20_40");
+  EXPECT_LT(rows[1].caMean, 0.8 * rows[0].caMean);
+  for (const auto& r : rows) EXPECT_LT(r.err, 0.02) << "R/dx = " << r.rdx;
+}
