@@ -12,7 +12,8 @@
 // control 1, traction on the two x faces, dynamic relaxation. Measured: sigma_xx along the x axis
 // (the two rows y = +-dx/2) at the first three clay particles, extrapolated quadratically to
 // r = a: the stress concentration, within 10 % of Goodier's; and the inclusion's drift.
-// RIGID_GOODIER_PROBE="perRadius halfWidthInRadii" runs one more case and prints it.
+// RIGID_GOODIER_PROBE="perRadius halfWidthInRadii" runs one more case and prints it
+// (RIGID_GOODIER_FORM=small_strain_stress: the clay's other formulation).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -72,8 +73,10 @@ GoodierResult runGoodier(int perRadius, double halfWidth) {
     << "end_time: 5.0e-3\ntime_step: {adaptive: true, cfl: 0.9}\n"
     << "output: {every_steps: 100000000}\nmaterials:\n"
     << "  - {name: clay, model: elastic, density: 2000, young_modulus: " << kE
-    << ", poisson_ratio: " << kNu << ", plane: strain, formulation: total_lagrangian, "
-    << "hourglass: 1, damping: 2.0e4}\n"
+    << ", poisson_ratio: " << kNu << ", plane: strain, "
+    << (std::getenv("RIGID_GOODIER_FORM") ? std::string("formulation: ") + std::getenv("RIGID_GOODIER_FORM")
+                                          : std::string("formulation: total_lagrangian, hourglass: 1"))
+    << ", damping: 2.0e4}\n"
     << "  - {name: grain, model: rigid, density: 2000, bonded: true}\n"
     << "geometry:\n"
     << "  - {shape: box, lo: [" << -W << ", " << -W << "], hi: [" << W << ", " << W
