@@ -13,7 +13,8 @@
 // (the two rows y = +-dx/2) at the first three clay particles, extrapolated quadratically to
 // r = a: the stress concentration, within 10 % of Goodier's; and the inclusion's drift.
 // RIGID_GOODIER_PROBE="perRadius halfWidthInRadii" runs one more case and prints it
-// (RIGID_GOODIER_FORM=small_strain_stress: the clay's other formulation).
+// (RIGID_GOODIER_FORM=small_strain_stress: the clay's other formulation; RIGID_GOODIER_K: the
+// grain's contact_modulus, i.e. the bond stiffness, default the clay's rho c^2 = 1.2e9 Pa).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -77,7 +78,10 @@ GoodierResult runGoodier(int perRadius, double halfWidth) {
     << (std::getenv("RIGID_GOODIER_FORM") ? std::string("formulation: ") + std::getenv("RIGID_GOODIER_FORM")
                                           : std::string("formulation: total_lagrangian, hourglass: 1"))
     << ", damping: 2.0e4}\n"
-    << "  - {name: grain, model: rigid, density: 2000, bonded: true}\n"
+    << "  - {name: grain, model: rigid, density: 2000, bonded: true"
+    << (std::getenv("RIGID_GOODIER_K") ? std::string(", contact_modulus: ") + std::getenv("RIGID_GOODIER_K")
+                                       : std::string())
+    << "}\n"
     << "geometry:\n"
     << "  - {shape: box, lo: [" << -W << ", " << -W << "], hi: [" << W << ", " << W
     << "], material: clay}\n"
