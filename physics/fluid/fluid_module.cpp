@@ -98,11 +98,7 @@ void FluidModule::configure(Simulation& sim, const std::vector<const Material*>&
     gamma_ = s.real("surface_tension", 0.0, Range::nonNegative());
     densityWeightedCsf_ =
         s.choice("surface_tension_weighting", "density", {"density", "none"}) == "density";
-    {
-      const std::string form = s.choice("surface_tension_form", "csf", {"csf", "balanced", "stress"});
-      balancedCsf_ = form == "balanced";
-      surfaceStress_ = form == "stress";
-    }
+    balancedCsf_ = s.choice("surface_tension_form", "csf", {"csf", "balanced"}) == "balanced";
     curvatureSmoothing_ = s.real("curvature_smoothing", 2.0, Range::closed(0.0, 3.0));
     normalThreshold_ = s.real("normal_threshold", 0.05, Range::closed(0.0, 1.0));
     wallWetting_ = s.boolean("wall_wetting", true);
@@ -799,7 +795,7 @@ void FluidModule::forcesD(Simulation& sim) {
     Vec<D> aP = Vec<D>::Zero(), aV = Vec<D>::Zero(), aA = Vec<D>::Zero(), dvX = Vec<D>::Zero(),
            gradC = Vec<D>::Zero();
     double divv = 0.0, diff = 0.0;
-    const bool csfHere = gamma_ > 0.0 && itf[i] && !balancedCsf_ && !surfaceStress_;
+    const bool csfHere = gamma_ > 0.0 && itf[i] && !balancedCsf_;
     Vec<D> nU = Vec<D>::Zero(), nW = Vec<D>::Zero(), tv = Vec<D>::Zero();
     double kS = 0.0, wS = 0.0;
     for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
@@ -951,19 +947,6 @@ void FluidModule::forcesD(Simulation& sim) {
     set.huAdams = huAdams;
     set.smoothingRadius = curvatureSmoothing_;
     addBalancedSurfaceForce<D>(nl, W, n, arr, set, kappaWork_);
-  }
-  if (surfaceStress_ && gamma_ > 0.0) {  // pairwise surface stress (surface_tension.cpp)
-    BalancedCsfArrays arr;
-    arr.x = x;
-    arr.m = m;
-    arr.rho = rho;
-    arr.phase = ph;
-    arr.motion = mo;
-    arr.colour = col;
-    arr.interface = itf;
-    arr.colourGradient = ng;
-    arr.acceleration = acc;
-    addSurfaceStressForce<D>(nl, W, n, arr, gamma_);
   }
   if (nextFactor) {  // this evaluation's factors, for the next one (see above)
     std::memcpy(st.data(viscousFactor), nextFactor, sizeof(double) * static_cast<size_t>(n));

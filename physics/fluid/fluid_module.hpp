@@ -122,7 +122,6 @@ class FluidModule : public Module {
   double gamma_ = 0.0;              // surface tension coefficient (N/m)
   bool densityWeightedCsf_ = true;  // CSF weighting 2 rho_a / (rho_a + rho_b)
   bool balancedCsf_ = false;        // surface_tension_form: balanced (surface_tension.hpp)
-  bool surfaceStress_ = false;      // surface_tension_form: stress (surface_tension.hpp)
   double curvatureSmoothing_ = 2.0; // balanced form: curvature Shepard radius / h
   std::vector<double> kappaWork_;   // balanced form: smoothed curvature (surface_tension.cpp)
   double normalThreshold_ = 0.05;   // |n| h below which a normal is not used (5.8)

@@ -87,48 +87,6 @@ void addBalancedSurfaceForce(const NeighbourList& nl, const Kernel& W, Index n,
   }
 }
 
-template <int D>
-void addSurfaceStressForce(const NeighbourList& nl, const Kernel& W, Index n, const BalancedCsfArrays& a,
-                           double gamma) {
-  if (gamma <= 0.0) return;
-  const double* x = a.x;
-  const double* m = a.m;
-  const double* rho = a.rho;
-  const std::int32_t* ph = a.phase;
-  const double* ng = a.colourGradient;
-  auto stress = [&](Index i) {
-    Vec<D> g;
-    for (int c = 0; c < D; ++c) g[c] = 0.5 * ng[i * D + c];
-    const double gn = g.norm();
-    Mat<D> T = Mat<D>::Zero();
-    if (gn > 0.0) T = gamma * (Mat<D>::Identity() * (gn / D) - g * g.transpose() / gn);
-    return T;
-  };
-#pragma omp parallel for schedule(dynamic, 256)
-  for (Index i = 0; i < n; ++i) {
-    // every fluid particle: one without another colour still feels its neighbours' T_b
-    if (ph[i] != kPhaseFluid || a.motion[i] == kMotionFixed) continue;
-    const double Va = m[i] / rho[i];
-    const Mat<D> Ta = stress(i);
-    Vec<D> acc = Vec<D>::Zero();
-    for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
-      const Index j = nl.index[static_cast<size_t>(k)];
-      if (ph[j] != kPhaseFluid) continue;
-      Vec<D> r;
-      for (int c = 0; c < D; ++c) r[c] = x[i * D + c] - x[j * D + c];
-      const double F = W.F(r.norm());
-      if (F == 0.0) continue;
-      const double Vb = m[j] / rho[j];
-      acc += (Va * Va * Ta + Vb * Vb * stress(j)) * (F * r);
-    }
-    for (int c = 0; c < D; ++c) a.acceleration[i * D + c] += acc[c] / m[i];
-  }
-}
-
-template void addSurfaceStressForce<1>(const NeighbourList&, const Kernel&, Index, const BalancedCsfArrays&, double);
-template void addSurfaceStressForce<2>(const NeighbourList&, const Kernel&, Index, const BalancedCsfArrays&, double);
-template void addSurfaceStressForce<3>(const NeighbourList&, const Kernel&, Index, const BalancedCsfArrays&, double);
-
 template void addBalancedSurfaceForce<1>(const NeighbourList&, const Kernel&, Index,
                                          const BalancedCsfArrays&, const BalancedCsfSettings&,
                                          std::vector<double>&);

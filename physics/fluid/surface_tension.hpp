@@ -31,7 +31,6 @@ struct BalancedCsfArrays {
   const double* colour = nullptr;        ///< colour +1 liquid / -1 gas (ghosts)
   const double* curvature = nullptr;     ///< kappa of Eq. 5.8, 0 where not defined (ghosts)
   const std::int32_t* interface = nullptr;  ///< 1: a neighbour of another colour (real)
-  const double* colourGradient = nullptr;  ///< n of Eq. 5.7 (colour jump 2), for the stress form (ghosts)
   double* acceleration = nullptr;        ///< accumulated into (real particles)
 };
 
@@ -49,14 +48,5 @@ template <int D>
 void addBalancedSurfaceForce(const NeighbourList& nl, const Kernel& W, Index n,
                              const BalancedCsfArrays& a, const BalancedCsfSettings& s,
                              std::vector<double>& kappaWork);
-
-/// Pairwise surface-stress form (Hu & Adams 2006, option `surface_tension_form: stress`): the
-/// capillary stress T = gamma (I/D |grad C| - grad C grad C / |grad C|), grad C = n / 2 (Eq. 5.7
-/// with its colour jump 2), enters the momentum balance like the pressure's -p I:
-/// a_a = (1/m_a) sum_b (V_a^2 T_a + V_b^2 T_b) . grad W_ab. No curvature is computed: the force is
-/// the divergence of the stress, momentum is conserved pair by pair.
-template <int D>
-void addSurfaceStressForce(const NeighbourList& nl, const Kernel& W, Index n, const BalancedCsfArrays& a,
-                           double gamma);
 
 }  // namespace poresph
