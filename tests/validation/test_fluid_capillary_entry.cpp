@@ -51,7 +51,9 @@ struct Entry {
     gas = fs::addMaterial(sim, "gas", "fluid", buf);
     std::snprintf(buf, sizeof buf, "{density: 1000, contact_angle: %g}", thetaDeg);
     const int wall = fs::addMaterial(sim, "wall", "wall", buf);
-    std::snprintf(buf, sizeof buf, "{surface_tension: %g, gravity: [%.9g, 0]}", gamma, forceRatio * threshold());
+    // FLUID_EXTRA: extra fluid keys (", key: value") for manual studies (issue 14)
+    std::snprintf(buf, sizeof buf, "{surface_tension: %g, gravity: [%.9g, 0]%s}", gamma, forceRatio * threshold(),
+                  std::getenv("FLUID_EXTRA") ? std::getenv("FLUID_EXTRA") : "");
     fluid = fs::addFluidModule(sim, buf);
     const double y0 = 0.5 * (H - w), y1 = 0.5 * (H + w);
     auto inSlitWall = [=](const double* x) { return x[0] > xs && x[0] < xs + Ls && (x[1] < y0 || x[1] > y1); };
