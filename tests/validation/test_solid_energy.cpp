@@ -1,0 +1,193 @@
+// Energy conservation of the Total-Lagrangian solid (issues 11 and 13: the balance closes to 1 %).
+// Explore driver (PORESPH_SOLID_ENERGY=1): a free 2D block vibrating, no damping, drift of
+// kinetic + elastic against the integrator, the step, hourglass control.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "libcore/integrator.hpp"
+#include "libcore/phases.hpp"
+#include "libcore/scene.hpp"
+#include "physics/solid/elastic_solid.hpp"
+#include "tests/support/validation_record.hpp"
+
+using namespace poresph;
+using namespace poresph::solid;
+
+namespace {
+
+std::string blockScene(double hourglass, const std::string& extra) {
+  return "dimension: 2\n"
+         "domain: {lo: [-0.02, -0.02], hi: [0.04, 0.02]}\n"
+         "spacing: 0.001\n"
+         "kernel: wendland_c2\n"
+         "end_time: 1.0\n"
+         "time_step: {adaptive: true, cfl: 0.2}\n"
+         "output: {every_steps: 100000}\n"
+         "materials:\n"
+         "  - {name: block, model: elastic, density: 2000, young_modulus: 1.0e6, poisson_ratio: "
+         "0.25, formulation: total_lagrangian, hourglass: " +
+         std::to_string(hourglass) + extra +
+         "}\n"
+         "geometry:\n"
+         "  - {shape: box, lo: [0.0, -0.01], hi: [0.01, 0.01], material: block}\n";
+}
+
+struct Drift {
+  double worst = 0.0, e0 = 0.0, last = 0.0;
+  int steps = 0;
+};
+
+// Free vibration from v = A (sin(2 pi y / Ly), sin(2 pi x / Lx)) (zero mean) for `duration`.
+// dtFactor > 0: fixed step dtFactor x Eq. 2.50; < 0: the scene's adaptive step x |dtFactor|/0.2.
+Drift vibrate(const std::string& integratorName, double hourglass, double dtFactor,
+              double amplitude, double duration, const std::string& extra = "") {
+  Scene sc = loadSceneText(blockScene(hourglass, extra), "block.yaml");
+  Simulation& sim = *sc.sim;
+  auto* solid = dynamic_cast<ElasticSolidModule*>(sim.module("solid"));
+  ParticleStore& s = sim.store;
+  const double pi = 3.14159265358979323846;
+  for (Index i = 0; i < s.realCount(); ++i) {
+    const Vec<2> x = s.vec<2>(s.position(), i);
+    s.vec<2>(s.velocity(), i) =
+        amplitude * Vec<2>(std::sin(2 * pi * x[1] / 0.02), std::sin(2 * pi * x[0] / 0.01));
+  }
+  auto integrator = makeIntegrator(integratorName);
+  sim.evaluateRates();
+  Drift d;
+  d.e0 = solid->kineticEnergy(sim) + solid->elasticEnergy(sim);
+  const double fixedDt = dtFactor * solid->elasticTimeStepLimit(sim);
+  while (sim.time < duration) {
+    double dt = fixedDt;
+    if (dtFactor < 0.0) dt = sc.nextTimeStep() * (-dtFactor) / 0.2;
+    integrator->step(sim, dt);
+    ++d.steps;
+    const double e = solid->kineticEnergy(sim) + solid->elasticEnergy(sim) + solid->work(sim)[2];
+    d.last = (e - d.e0) / d.e0;
+    d.worst = std::max(d.worst, std::abs(d.last));
+  }
+  return d;
+}
+
+}  // namespace
+
+TEST(SolidEnergy, Explore) {
+  if (!std::getenv("PORESPH_SOLID_ENERGY")) GTEST_SKIP() << "set PORESPH_SOLID_ENERGY=1";
+  const double A = std::getenv("PORESPH_A") ? std::atof(std::getenv("PORESPH_A")) : 0.2;
+  const double T = std::getenv("PORESPH_T") ? std::atof(std::getenv("PORESPH_T")) : 0.01;
+  for (const char* integ : {"leapfrog", "verlet", "predictor_corrector"})
+    for (double hg : {0.0, 1.0})
+      for (double f : {-0.2, 0.4, 0.2, 0.1, 0.05}) {
+        const Drift d = vibrate(integ, hg, f, A, T);
+        std::printf("%-20s hourglass %.0f dt %5.2f: steps %6d E0 %.4e worst %.3e last %+.3e\n",
+                    integ, hg, f, d.steps, d.e0, d.worst, d.last);
+        std::fflush(stdout);
+      }
+}
+
+namespace {
+
+double column(const Simulation& sim, const std::string& name) {
+  for (const auto& [k, v] : sim.diagnostics())
+    if (k == name) return v;
+  return 0.0;
+}
+
+// The droplet of tests/validation/test_coupling.cpp (CouplingMomentum) with `block` as the
+// block's material line ("" = two droplets colliding head-on, fluid only).
+std::string dropletScene(double cfl, const std::string& block) {
+  std::string s =
+      "dimension: 2\n"
+      "domain: {lo: [-0.02, -0.02], hi: [0.04, 0.02]}\n"
+      "spacing: 0.001\n"
+      "kernel: wendland_c2\n"
+      "end_time: 1.0\n"
+      "time_step: {adaptive: true, cfl: " + std::to_string(cfl) + "}\n"
+      "output: {every_steps: 100000}\n"
+      "materials:\n"
+      "  - {name: water, model: fluid, density: 1000, sound_speed: 20, viscosity: 0}\n";
+  if (!block.empty()) s += "  - " + block + "\n";
+  s += "geometry:\n";
+  if (!block.empty())
+    s += "  - {shape: box, lo: [0.0, -0.01], hi: [0.01, 0.01], material: block}\n";
+  else
+    s += "  - {shape: sphere, centre: [0.006, 0], radius: 0.004, material: water, velocity: [-1.0, 0]}\n";
+  s += "  - {shape: sphere, centre: [-0.006, 0], radius: 0.004, material: water, velocity: [1.0, 0]}\n";
+  return s;
+}
+
+}  // namespace
+
+TEST(SolidEnergy, ExploreDroplet) {
+  if (!std::getenv("PORESPH_SOLID_ENERGY")) GTEST_SKIP() << "set PORESPH_SOLID_ENERGY=1";
+  const std::string blockLine =
+      "{name: block, model: elastic, density: 2000, young_modulus: 1.0e6, poisson_ratio: 0.25, "
+      "formulation: total_lagrangian}";
+  const int steps0 = std::getenv("PORESPH_STEPS") ? std::atoi(std::getenv("PORESPH_STEPS")) : 10000;
+  for (const std::string block : {blockLine, std::string()})
+    for (double cfl : {0.2, 0.1, 0.05}) {
+      Scene sc = loadSceneText(dropletScene(cfl, block), "droplet.yaml");
+      Simulation& sim = *sc.sim;
+      auto integrator = makeIntegrator("leapfrog");
+      auto total = [&] {
+        return column(sim, "kinetic_energy") + column(sim, "fluid_internal_energy") +
+               column(sim, "solid_elastic_energy");
+      };
+      const double e0 = total();
+      double worst = 0.0;
+      const int steps = static_cast<int>(steps0 * 0.2 / cfl);
+      // The work of the fluid-solid pair forces on the solid (trapezoid over the steps of the
+      // power at the synchronised velocities), against the solid's own energy change.
+      auto solidEnergy = [&] {
+        return column(sim, "solid_kinetic_energy") + column(sim, "solid_elastic_energy");
+      };
+      auto couplingPower = [&] {
+        Module* cm = sim.module("coupling");
+        if (!cm) return 0.0;
+        ParticleStore& st = sim.store;
+        const Index n = st.realCount();
+        double* acc = st.data(sim.acceleration);
+        double* dr = st.data(st.real("density_rate"));
+        std::vector<double> a0(acc, acc + 2 * n), r0(dr, dr + n);
+        std::fill(acc, acc + 2 * n, 0.0);
+        cm->interfaces(sim);
+        double P = 0.0;
+        const double* v = st.data(st.velocity());
+        const double* m = st.data(st.mass());
+        for (Index i = 0; i < n; ++i)
+          if (st.data(st.phase())[i] == kPhaseSolid)
+            P += m[i] * (acc[2 * i] * v[2 * i] + acc[2 * i + 1] * v[2 * i + 1]);
+        std::copy(a0.begin(), a0.end(), acc);
+        std::copy(r0.begin(), r0.end(), dr);
+        return P;
+      };
+      const double es0 = solidEnergy();
+      double W = 0.0, Pprev = couplingPower(), worstSolid = 0.0;
+      for (int k = 1; k <= steps; ++k) {
+        const double dt = sc.nextTimeStep();
+        integrator->step(sim, dt);
+        const double P = couplingPower();
+        W += 0.5 * dt * (P + Pprev);
+        Pprev = P;
+        if (!block.empty())
+          worstSolid = std::max(worstSolid, std::abs(solidEnergy() - es0 - W) / e0);
+        if (k % (steps / 20) != 0) continue;
+        const double e = total();
+        worst = std::max(worst, std::abs(e - e0) / e0);
+        std::printf("  %s cfl %.2f t %.5f fluid KE %.5e int %.5e solid KE %.5e el %.5e total %+.3e\n",
+                    block.empty() ? "two drops" : "block", cfl, sim.time,
+                    column(sim, "fluid_kinetic_energy"), column(sim, "fluid_internal_energy"),
+                    column(sim, "solid_kinetic_energy"), column(sim, "solid_elastic_energy"),
+                    (e - e0) / e0);
+      }
+      std::printf("%s cfl %.2f: %d steps to t %.4f, worst drift %.3e; solid: work in %.4e, "
+                  "energy change %.4e, worst |change - work| / E0 %.3e\n",
+                  block.empty() ? "two drops" : "block", cfl, steps, sim.time, worst, W,
+                  solidEnergy() - es0, worstSolid);
+      std::fflush(stdout);
+    }
+}
