@@ -90,6 +90,13 @@ MemoryReport memoryReport(const Simulation& sim, std::uint64_t particles,
       l.note = "of which held for other modules' particles";
     r.lines.push_back(l);
   }
+  // What modules hold outside the store (the TL reference family in compressed rows).
+  if (nReal > 0)
+    for (const auto& m : sim.modules)
+      if (const std::uint64_t held = m->heldBytes(); held > 0)
+        r.lines.push_back({"held: " + m->name(),
+                           static_cast<double>(held) / static_cast<double>(nReal), 0.0,
+                           "outside the store, for its own particles"});
   if (!integratorBound) {
     // Integrator::bindScratch registers these at the first step: a velocity and a position
     // copy plus one copy of every integrated field.

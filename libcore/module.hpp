@@ -14,6 +14,7 @@
 // Then the integrator advances positions, velocities and every (field, rate) pair registered in
 // Simulation::integrated; endOfStep() of every module follows (in module order), then health
 // checks, diagnostics() and output.
+#include <cstdint>
 #include <functional>
 #include <limits>
 #include <memory>
@@ -86,13 +87,18 @@ class Module {
   virtual ModuleState saveState() const { return {}; }
   virtual void restoreState(const ModuleState& state) {}
 
-  /// Bytes per particle of the fields this module registers only in initialise(), once the
-  /// particles exist (e.g. the Total-Lagrangian reference family, sized by the largest family),
-  /// for the memory estimate made before any particle is allocated (Scene::memory, `poresph
-  /// info`). `neighbours`: the lattice estimate of neighbours per particle within the support.
-  virtual double deferredBytesPerParticle(const Simulation& sim, double neighbours) const {
+  /// Bytes per particle (averaged over all the scene's particles) of what this module allocates
+  /// only in initialise(), once the particles exist (e.g. the Total-Lagrangian reference family,
+  /// held for the solid particles only), for the memory estimate made before any particle is
+  /// allocated (Scene::memory, `poresph info`). `neighbours`: the lattice estimate of neighbours
+  /// per particle within the support; `particlesPerMaterial`: counted sites per material id.
+  virtual double deferredBytesPerParticle(const Simulation& sim, double neighbours,
+                                          const std::vector<Index>& particlesPerMaterial) const {
     return 0.0;
   }
+  /// Bytes this module holds outside the particle store (per-body state, compressed per-particle
+  /// rows such as the TL reference family), reported by `poresph info` (libcore/memory.hpp).
+  virtual std::uint64_t heldBytes() const { return 0; }
   /// Largest stable time step of this module (CFL conditions, Eqs. 2.49-2.50).
   virtual double timeStepLimit(const Simulation& sim) const {
     return std::numeric_limits<double>::infinity();

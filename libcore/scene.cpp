@@ -397,9 +397,10 @@ Scene buildScene(const YAML::Node& root, const std::string& file, const SceneOpt
       else lists += l.bytesPerParticle;
     }
     double deferred = 0.0;
-    for (const auto& m : sim.modules) deferred += m->deferredBytesPerParticle(sim, neighbours);
-    // Periodic ghosts hold every field, the deferred ones too.
-    if (fields > 0.0) ghosts *= (fields + deferred) / fields;
+    for (const auto& m : sim.modules)
+      deferred += m->deferredBytesPerParticle(sim, neighbours, scene.particlesPerMaterial);
+    // Periodic ghosts hold every store field; what modules allocate at initialise is held for
+    // their own real particles (the TL family, outside the store), not copied to ghosts.
     fields += deferred + ghosts;
     mem.fieldBytesPerParticle = static_cast<std::uint64_t>(std::ceil(fields));
     mem.rollbackBytesPerParticle = static_cast<std::uint64_t>(std::ceil(rollback));

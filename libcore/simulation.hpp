@@ -1,5 +1,6 @@
 #pragma once
 // The state of one run and the scheduler of a step (see libcore/module.hpp for the stage order).
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -51,6 +52,13 @@ class Simulation {
   /// How fluid pairs are evaluated (pressure form, viscosity mean, artificial viscosity): set by
   /// the fluid module, read by every module that applies fluid pair terms (coupling).
   FluidPairSettings fluidPairSettings;
+  /// Physical parameters one module reads and another needs, published at configure (the
+  /// modules meet only here): the fluid module's interface tension and gravity, read by the
+  /// drainage module for the dimensionless numbers of Eqs. 5.11-5.14.
+  struct PublishedPhysics {
+    double surfaceTension = 0.0;                 ///< gamma of the fluid-fluid interface [N/m]
+    std::array<double, 3> fluidGravity{0, 0, 0};  ///< gravity acting on the fluids [m/s^2]
+  } published;
   /// Appends a material (id = its index) whose parameters are a YAML mapping given as text, for
   /// scenes built in code (tests, benchmarks); errors name `origin` and materials[id].
   const Material& addMaterial(const std::string& name, const std::string& model,

@@ -3,6 +3,8 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
+#include <limits>
 #include <numeric>
 #include <sstream>
 
@@ -30,6 +32,35 @@ int materialId(const Simulation& sim, const ParameterSet& s, const std::string& 
   s.fail(key, "no material is named '" + name + "'" +
                   (close.empty() ? " (fluid materials: " + (known.empty() ? "none" : known) + ")"
                                  : " (did you mean '" + close + "'?)"));
+}
+
+/// Eqs. 5.11a-5.14a for one set of parameters; NaN where an input is missing or zero.
+struct DimensionlessNumbers {
+  double bond, capillary, viscosityRatio, reynolds;
+};
+template <class P>
+DimensionlessNumbers numbersOf(const P& p) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  auto ok = [](double v) { return std::isfinite(v) && v > 0.0; };
+  DimensionlessNumbers n{nan, nan, nan, nan};
+  if (ok(p.surfaceTension) && ok(p.poreSize) && std::isfinite(p.gravity))
+    n.bond = std::abs(p.defendingDensity - p.invadingDensity) * p.gravity * p.poreSize *
+             p.poreSize / p.surfaceTension;  // 5.11a
+  if (ok(p.surfaceTension) && std::isfinite(p.invadingViscosity) && std::isfinite(p.velocity))
+    n.capillary = p.invadingViscosity * p.velocity / p.surfaceTension;  // 5.12a
+  if (ok(p.defendingViscosity) && std::isfinite(p.invadingViscosity))
+    n.viscosityRatio = p.invadingViscosity / p.defendingViscosity;  // 5.13a
+  if (ok(p.invadingViscosity) && ok(p.poreSize) && std::isfinite(p.velocity))
+    n.reynolds = p.invadingDensity * p.velocity * p.poreSize / p.invadingViscosity;  // 5.14a
+  return n;
+}
+
+std::string number(double v) {
+  if (!std::isfinite(v)) return "-";
+  std::ostringstream o;
+  o.precision(3);
+  o << v;
+  return o.str();
 }
 
 std::int64_t find(std::vector<std::int64_t>& p, std::int64_t i) {
@@ -95,6 +126,26 @@ void DrainageModule::configure(Simulation& sim, const std::vector<const Material
   rampTime_ = s.real("ramp_time", 0.0, Range::nonNegative());
   linkDistance_ = s.real("link_distance", 1.5, Range::closed(1.0, 2.0));
   checkEvery_ = s.integer("percolation_every", 10, 1, 1000000);
+  poreSizeGiven_ = s.has("pore_size");
+  poreSize_ = poreSizeGiven_ ? s.real("pore_size", Range::positive()) : 0.0;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  physical_ = {nan, nan, nan, nan, nan, nan, nan, nan};
+  hasPhysical_ = s.has("physical");
+  if (hasPhysical_) {
+    // The real system's parameters (thesis Table 5.3 "physical"), for the numbers beside the
+    // simulated ones; each optional, a number is printed when its inputs are given.
+    const ParameterSet p = s.section("physical");
+    auto get = [&](const char* key, Range r) { return p.has(key) ? p.real(key, r) : nan; };
+    physical_.invadingDensity = get("invading_density", Range::positive());
+    physical_.defendingDensity = get("defending_density", Range::positive());
+    physical_.invadingViscosity = get("invading_viscosity", Range::positive());
+    physical_.defendingViscosity = get("defending_viscosity", Range::positive());
+    physical_.surfaceTension = get("surface_tension", Range::positive());
+    physical_.poreSize = get("pore_size", Range::positive());
+    physical_.velocity = get("velocity", Range::nonNegative());
+    physical_.gravity = p.real("gravity", 9.81, Range::nonNegative());
+    p.finish();
+  }
   if (pressureDrop_ > 0.0 && !sim.domain.periodic[static_cast<size_t>(axis_)])
     s.fail("pressure_drop", std::to_string(pressureDrop_) +
                                 ": the body-force pressure drop needs a domain periodic along "
@@ -107,6 +158,37 @@ void DrainageModule::configure(Simulation& sim, const std::vector<const Material
 
 void DrainageModule::initialise(Simulation& sim) {
   parent_.assign(static_cast<size_t>(sim.store.realCount()), 0);
+  // Measured once on the initial lattice (a restart keeps the value: module state).
+  if (!poreSizeGiven_) poreSize_ = measurePoreSize(sim);
+}
+
+double DrainageModule::measurePoreSize(const Simulation& sim) const {
+  const ParticleStore& st = sim.store;
+  const NeighbourList& nl = sim.neighbours;
+  const Index n = std::min<Index>(st.realCount(), nl.realCount());
+  if (n == 0) return 0.0;
+  const int d = sim.dimension();
+  const double* x = st.data(st.position());
+  const std::int32_t* ph = st.data(st.phase());
+  const double dx = sim.spacing;
+  const double face = 1.01 * dx * 1.01 * dx;  // lattice face neighbours: distance dx
+  double fluid = 0.0, faces = 0.0;
+#pragma omp parallel for schedule(static) reduction(+ : fluid, faces)
+  for (Index i = 0; i < n; ++i) {
+    const double s = x[i * d + axis_];
+    if (ph[i] != kPhaseFluid || s < sampleLo_ || s > sampleHi_) continue;
+    fluid += 1.0;
+    for (auto p = nl.offset[static_cast<size_t>(i)]; p < nl.offset[static_cast<size_t>(i) + 1];
+         ++p) {
+      const Index j = nl.index[static_cast<size_t>(p)];
+      if (ph[j] == kPhaseFluid) continue;
+      double r2 = 0.0;
+      for (int a = 0; a < d; ++a) r2 += (x[i * d + a] - x[j * d + a]) * (x[i * d + a] - x[j * d + a]);
+      if (r2 <= face) faces += 1.0;
+    }
+  }
+  // 4 V / S with V = N dx^D and S = faces dx^(D-1) (a staircase wall counts its voxel faces).
+  return faces > 0.0 ? 4.0 * fluid * dx / faces : 0.0;
 }
 
 void DrainageModule::forces(Simulation& sim) {
@@ -192,13 +274,16 @@ void DrainageModule::endOfStep(Simulation& sim, double) {
 }
 
 ModuleState DrainageModule::saveState() const {
-  return {{"percolation_time", {percolationTime_}}, {"flow_path_time", {flowPathTime_}}};
+  return {{"percolation_time", {percolationTime_}},
+          {"flow_path_time", {flowPathTime_}},
+          {"pore_size", {poreSize_}}};
 }
 
 void DrainageModule::restoreState(const ModuleState& state) {
   for (const auto& [name, v] : state) {
     if (name == "percolation_time" && !v.empty()) percolationTime_ = v[0];
     if (name == "flow_path_time" && !v.empty()) flowPathTime_ = v[0];
+    if (name == "pore_size" && !v.empty()) poreSize_ = v[0];
   }
 }
 
@@ -219,15 +304,21 @@ void DrainageModule::diagnostics(const Simulation& sim,
                           : nullptr;
   double vInv = 0, vDef = 0, vFluid = 0, vSolid = 0, vDamaged = 0, vStressed = 0, meanStress = 0;
   double maxDamage = 0, maxPrincipal = -std::numeric_limits<double>::infinity();
+  double momInv = 0;  // sum V v.e of the invading fluid, e the push direction
+  const double push = force_ < 0.0 ? -1.0 : 1.0;
+  const double* vel = st.data(st.velocity());
 #pragma omp parallel for schedule(static) reduction(+ : vInv, vDef, vFluid, vSolid, vDamaged, \
-    vStressed, meanStress) reduction(max : maxDamage, maxPrincipal)
+    vStressed, meanStress, momInv) reduction(max : maxDamage, maxPrincipal)
   for (Index i = 0; i < n; ++i) {
     const double s = x[i * d + axis_];
     if (s < sampleLo_ || s > sampleHi_) continue;
     const double v = m[i] / rho[i];
     if (ph[i] == kPhaseFluid) {
       vFluid += v;
-      if (mt[i] == invading_) vInv += v;
+      if (mt[i] == invading_) {
+        vInv += v;
+        momInv += v * push * vel[i * d + axis_];
+      }
       if (mt[i] == defending_) vDef += v;
     } else if (ph[i] == kPhaseSolid || (ph[i] == kPhaseRigid && incl[mt[i]])) {
       vSolid += v;
@@ -275,6 +366,17 @@ void DrainageModule::diagnostics(const Simulation& sim,
     columns.emplace_back("drainage_damaged_fraction", vSolid > 0 ? vDamaged / vSolid : nan);
     columns.emplace_back("drainage_max_damage", maxDamage);
   }
+  // Eqs. 5.12a / 5.14a at the measured gas velocity (the thesis quotes Ca_sim ~ 1.25e-4 and
+  // Re_sim ~ 0.5 for its runs).
+  const Material& inv = sim.materials[static_cast<size_t>(invading_)];
+  const double vg = vInv > 0 ? momInv / vInv : nan;
+  columns.emplace_back("drainage_gas_velocity", vg);
+  if (sim.published.surfaceTension > 0.0)
+    columns.emplace_back("drainage_capillary_number",
+                         inv.fluid.viscosity * vg / sim.published.surfaceTension);
+  if (inv.fluid.viscosity > 0.0 && poreSize_ > 0.0)
+    columns.emplace_back("drainage_reynolds_number",
+                         inv.fluid.rho0 * vg * poreSize_ / inv.fluid.viscosity);
   if (sig) {
     columns.emplace_back("drainage_solid_mean_stress", vStressed > 0 ? meanStress / vStressed : nan);
     columns.emplace_back("drainage_solid_max_principal_stress",
@@ -299,6 +401,36 @@ std::string DrainageModule::describe(const Simulation& sim) const {
     o << "              density ratio " << def.name << "/" << inv.name << " = "
       << def.fluid.rho0 / inv.fluid.rho0 << ", viscosity ratio M = mu_" << inv.name << "/mu_"
       << def.name << " = " << inv.fluid.viscosity / def.fluid.viscosity << " (Eq. 5.13)\n";
+  // Dimensionless numbers (Eqs. 5.11-5.14), simulated and, with `physical:`, real. Before the
+  // run the gas velocity is estimated as the mean Poiseuille velocity of the defending fluid in a
+  // pore of hydraulic diameter L under the slab's pressure gradient (tube in 3D: dP L^2 /
+  // (32 mu l); slit in 2D: dP L^2 / (48 mu l)); the run measures it (drainage_gas_velocity and
+  // the Ca / Re columns of timeseries.csv).
+  const double L = poreSize_ > 0.0 ? poreSize_ : measurePoreSize(sim);
+  const double slab = sampleHi_ - sampleLo_;
+  double g = 0.0;
+  for (double c : sim.published.fluidGravity) g += c * c;
+  Parameters simulated{inv.fluid.rho0, def.fluid.rho0, inv.fluid.viscosity, def.fluid.viscosity,
+                       sim.published.surfaceTension, L, 0.0, std::sqrt(g)};
+  if (def.fluid.viscosity > 0.0 && L > 0.0)
+    simulated.velocity = pressureDrop_ * L * L /
+                         ((sim.dimension() == 3 ? 32.0 : 48.0) * def.fluid.viscosity * slab);
+  const DimensionlessNumbers ns = numbersOf(simulated);
+  o << "              pore size L = " << number(L) << " m ("
+    << (poreSizeGiven_ ? "drainage.pore_size" : "hydraulic diameter 4 V / S of the slab's pores")
+    << "), gas velocity v_g ~ " << number(simulated.velocity)
+    << " m/s (Poiseuille estimate; measured in timeseries.csv)\n";
+  o << "              numbers       simulated   physical\n";
+  const DimensionlessNumbers np =
+      hasPhysical_ ? numbersOf(physical_) : DimensionlessNumbers{NAN, NAN, NAN, NAN};
+  auto row = [&](const char* what, double a, double b) {
+    o << "              " << std::left << std::setw(14) << what << std::setw(12) << number(a)
+      << (hasPhysical_ ? number(b) : std::string("(drainage.physical not given)")) << "\n";
+  };
+  row("Bo (5.11a)", ns.bond, np.bond);
+  row("Ca (5.12a)", ns.capillary, np.capillary);
+  row("M (5.13a)", ns.viscosityRatio, np.viscosityRatio);
+  row("Re (5.14a)", ns.reynolds, np.reynolds);
   return o.str();
 }
 

@@ -28,6 +28,13 @@
 //                              (only when a `damage` field exists)
 //   drainage_solid_mean_stress mean of tr(sigma)/D over the solid (volume weighted) and
 //   drainage_solid_max_principal_stress (only when a `stress` field exists)
+//   drainage_gas_velocity      volume-weighted mean velocity of the invading fluid in the slab
+//                              along the push direction (v_g of Eqs. 5.12a, 5.14a)
+//   drainage_capillary_number  mu_g v_g / gamma (5.12a; only with a surface tension) and
+//   drainage_reynolds_number   rho_g v_g L / mu_g (5.14a; only with a gas viscosity), L the
+//                              pore size (`pore_size`, or the hydraulic diameter measured at
+//                              initialise: 4 V_pore / S_wall of the slab, S_wall from the
+//                              fluid-solid face neighbours of the lattice)
 // The percolation and flow-path times are module state (checkpointed, Module::saveState).
 #include <string>
 #include <vector>
@@ -59,6 +66,13 @@ class DrainageModule : public Module {
   /// Pore space plus damaged solid spans the slab (drainage_flow_path).
   bool flowPathSpans(const Simulation& sim) const;
   double percolationTime() const { return percolationTime_; }
+  /// Characteristic pore size L of Eqs. 5.11a/5.14a: `pore_size` or the measured hydraulic
+  /// diameter (0 before initialise without the key).
+  double poreSize() const { return poreSize_; }
+  /// Hydraulic diameter 4 V / S of the pore space of the slab on the particle lattice: V the
+  /// fluid particles' volume, S one dx^(D-1) face per fluid-nonfluid pair at distance dx
+  /// (neighbour lists must exist); 0 when the slab has no pore wall.
+  double measurePoreSize(const Simulation& sim) const;
 
  private:
   int axis_ = 0;
@@ -73,6 +87,16 @@ class DrainageModule : public Module {
   template <class Member>
   bool spans(const Simulation& sim, Member member) const;
   std::string where_;
+  double poreSize_ = 0.0;
+  bool poreSizeGiven_ = false;
+  /// The parameters the dimensionless numbers of Eqs. 5.11-5.14 need: the simulated ones, and
+  /// those of the real system given in the `physical:` section (NaN: not given).
+  struct Parameters {
+    double invadingDensity, defendingDensity, invadingViscosity, defendingViscosity,
+        surfaceTension, poreSize, velocity, gravity;
+  };
+  Parameters physical_{};
+  bool hasPhysical_ = false;
   mutable std::vector<std::int64_t> parent_;  // union-find scratch (sized at initialise)
 };
 

@@ -73,6 +73,8 @@ void FluidModule::configure(Simulation& sim, const std::vector<const Material*>&
   if (section) {
     const ParameterSet& s = *section;
     if (s.has("gravity")) gravity_ = s.reals("gravity", static_cast<size_t>(d));
+    for (int a = 0; a < d; ++a)
+      sim.published.fluidGravity[static_cast<size_t>(a)] = gravity_[static_cast<size_t>(a)];
     if (s.has("body_forces")) {
       for (const ParameterSet& b : s.sectionList("body_forces")) {
         BodyForce f;
@@ -96,6 +98,7 @@ void FluidModule::configure(Simulation& sim, const std::vector<const Material*>&
     harmonicMean_ =
         s.choice("viscosity_mean", "harmonic", {"harmonic", "arithmetic"}) == "harmonic";
     gamma_ = s.real("surface_tension", 0.0, Range::nonNegative());
+    sim.published.surfaceTension = gamma_;  // for the drainage numbers (Eqs. 5.11-5.12)
     densityWeightedCsf_ =
         s.choice("surface_tension_weighting", "density", {"density", "none"}) == "density";
     balancedCsf_ = s.choice("surface_tension_form", "csf", {"csf", "balanced"}) == "balanced";

@@ -295,6 +295,17 @@ void ElasticSolidModule::configure(Simulation& sim, const std::vector<const Mate
         section->fail("family_storage", "a reference family exists only with the "
                                         "total_lagrangian formulation");
     }
+    // Hourglass control (docs/solid.md): `conservative` (default) derives the force from a
+    // penalty energy (a stored energy, in the balance); `pairwise` is Ganzenmueller's (2015)
+    // projected pair spring, not a gradient: its power is counted as dissipation.
+    if (section->has("hourglass_form")) {
+      hourglassConservative_ =
+          section->choice("hourglass_form", "conservative", {"conservative", "pairwise"}) ==
+          "conservative";
+      if (formulation_ != Formulation::TotalLagrangian)
+        section->fail("hourglass_form", "hourglass control is for the total_lagrangian "
+                                        "formulation only");
+    }
     if (section->has("gravity")) {
       const auto g = section->reals("gravity", static_cast<size_t>(dim));
       for (int a = 0; a < dim; ++a) gravity_[static_cast<size_t>(a)] = g[static_cast<size_t>(a)];
@@ -330,6 +341,12 @@ void ElasticSolidModule::configure(Simulation& sim, const std::vector<const Mate
     // (minimum-image separations); a period shorter than two supports is refused there.
     defGrad_ = s.addReal("deformation_gradient", dim * dim, kFieldDefault, me);
     piola_ = s.addReal("first_piola", dim * dim, kFieldNone, me);
+    anyHourglass_ = false;
+    for (const auto& e : mats_) anyHourglass_ = anyHourglass_ || e.hourglass > 0.0;
+    // the penalty energy density of the conservative hourglass control (per unit reference
+    // volume), written by forces() at the evaluation's positions
+    if (anyHourglass_ && hourglassConservative_)
+      hgEnergy_ = s.addReal("solid_hourglass_energy", 1, kFieldOutput, me);
   } else {
     densityRate_ = s.addReal("density_rate", 1, kFieldNone, me);
     corrFields_ = registerCorrectionFields(s, "solid_correction", me);
@@ -619,30 +636,38 @@ void ElasticSolidModule::initialiseDim(Simulation& sim) {
   if (formulation_ != Formulation::TotalLagrangian) return;
 
   // ---- Total-Lagrangian reference family with corrected gradients (Eqs. 2.67-2.68) ----
+  // The family is held by the module, not the store: compressed rows over the solid particles
+  // only (row k of solid particle mine[k], members [famOffset_[k], famOffset_[k + 1])), found
+  // through the per-particle int field solid_family_row (-1: not this module's particle), which
+  // the store permutes with the particles. Fluid, wall and ghost particles hold 4 bytes instead
+  // of a padded row of the largest family (docs/particle-store.md "Memory").
   int cap = 1;
-  for (Index k = 0; k < nm; ++k)
-    cap = std::max<int>(cap, static_cast<int>(ref.offset[static_cast<size_t>(k) + 1] -
-                                             ref.offset[static_cast<size_t>(k)]));
+  famOffset_.assign(static_cast<size_t>(nm) + 1, 0);
+  for (Index k = 0; k < nm; ++k) {
+    const auto c = ref.offset[static_cast<size_t>(k) + 1] - ref.offset[static_cast<size_t>(k)];
+    cap = std::max<int>(cap, static_cast<int>(c));
+    famOffset_[static_cast<size_t>(k) + 1] = famOffset_[static_cast<size_t>(k)] + c;
+  }
   if (familyCapacity_ != 0 && familyCapacity_ != cap)
     throw std::logic_error("solid module: initialise() called twice with different families");
   familyCapacity_ = cap;
-  family_ = s.addInt("solid_family", cap, kInternal | kFieldConstant, "solid");
-  familyCount_ = s.addInt("solid_family_count", 1, kInternal | kFieldConstant, "solid");
-  famGrad_ = s.addReal("solid_family_gradient", cap * D, kInternal | kFieldConstant, "solid");
+  const size_t members = static_cast<size_t>(famOffset_.back());
+  familyRow_ = s.addInt("solid_family_row", 1, kInternal | kFieldConstant, "solid");
+  famIds_.assign(members, 0);
+  famG_.assign(members * D, 0.0);
   // The reverse gradient g_ba of a pair: stored (family_storage: fast) or found as b's own entry
   // for a by its slot in b's family (compact).
-  if (compactFamily_)
-    famRevSlot_ = s.addInt("solid_family_reverse_slot", cap, kInternal | kFieldConstant, "solid");
-  else
-    famRevGrad_ =
-        s.addReal("solid_family_reverse_gradient", cap * D, kInternal | kFieldConstant, "solid");
-  std::int32_t* fam = s.data(family_);
-  std::int32_t* famN = s.data(familyCount_);
-  double* G = s.data(famGrad_);
-  std::int32_t* revSlot = compactFamily_ ? s.data(famRevSlot_) : nullptr;
-  double* GR = compactFamily_ ? nullptr : s.data(famRevGrad_);
+  if (compactFamily_) famRevSlot_.assign(members, 0);
+  else famGR_.assign(members * D, 0.0);
+  std::int32_t* row = s.data(familyRow_);
+  std::fill(row, row + s.size(), -1);
+  for (Index k = 0; k < nm; ++k) row[mine[static_cast<size_t>(k)]] = static_cast<std::int32_t>(k);
+  std::int32_t* fam = famIds_.data();
+  double* G = famG_.data();
+  std::int32_t* revSlot = compactFamily_ ? famRevSlot_.data() : nullptr;
+  double* GR = compactFamily_ ? nullptr : famGR_.data();
   const std::int32_t* ids = s.data(s.id());
-  std::memset(famN, 0, sizeof(std::int32_t) * static_cast<size_t>(n));
+  const std::int64_t* off = famOffset_.data();
   // Rows written in place, members in the order of their solid index b (fam holds b until the
   // last pass turns it into b's particle id), each with g_ab and g_ba.
 #pragma omp parallel if (nm > 512)
@@ -650,15 +675,13 @@ void ElasticSolidModule::initialiseDim(Simulation& sim) {
     std::vector<std::pair<Index, std::int64_t>> order;  // (b, ref entry), one row at a time
 #pragma omp for schedule(static)
     for (Index k = 0; k < nm; ++k) {
-      const Index i = mine[static_cast<size_t>(k)];
       const auto b0 = ref.offset[static_cast<size_t>(k)], b1 = ref.offset[static_cast<size_t>(k) + 1];
       order.clear();
       for (auto p = b0; p < b1; ++p)
         order.emplace_back(origin[static_cast<size_t>(ref.index[static_cast<size_t>(p)])], p);
       std::sort(order.begin(), order.end());
-      famN[i] = static_cast<std::int32_t>(order.size());
       for (size_t q = 0; q < order.size(); ++q) {
-        const Index at = i * cap + static_cast<Index>(q);
+        const std::int64_t at = off[k] + static_cast<std::int64_t>(q);
         fam[at] = static_cast<std::int32_t>(order[q].first);
         const Vec<D> g = forward(k, order[q].second);
         for (int a = 0; a < D; ++a) G[at * D + a] = g[a];
@@ -673,23 +696,21 @@ void ElasticSolidModule::initialiseDim(Simulation& sim) {
   if (revSlot) {
 #pragma omp parallel for schedule(static) if (nm > 512)
     for (Index k = 0; k < nm; ++k) {
-      const Index i = mine[static_cast<size_t>(k)];
-      for (Index q = 0; q < famN[i]; ++q) {
-        const Index bi = mine[static_cast<size_t>(fam[i * cap + q])];
-        const std::int32_t* row = fam + bi * cap;
-        const std::int32_t* it = std::lower_bound(row, row + famN[bi], static_cast<std::int32_t>(k));
-        if (it == row + famN[bi] || *it != k)
+      for (std::int64_t q = off[k]; q < off[k + 1]; ++q) {
+        const Index b = fam[q];
+        const std::int32_t* first = fam + off[b];
+        const std::int32_t* last = fam + off[b + 1];
+        const std::int32_t* it = std::lower_bound(first, last, static_cast<std::int32_t>(k));
+        if (it == last || *it != k)
           throw std::logic_error("solid module: reference family is not symmetric");
-        revSlot[i * cap + q] = static_cast<std::int32_t>(it - row);
+        revSlot[q] = static_cast<std::int32_t>(it - first);
       }
     }
   }
 #pragma omp parallel for schedule(static) if (nm > 512)
-  for (Index k = 0; k < nm; ++k) {
-    const Index i = mine[static_cast<size_t>(k)];
-    for (Index q = 0; q < famN[i]; ++q)
-      fam[i * cap + q] = ids[mine[static_cast<size_t>(fam[i * cap + q])]];
-  }
+  for (Index k = 0; k < nm; ++k)
+    for (std::int64_t q = off[k]; q < off[k + 1]; ++q)
+      fam[q] = ids[mine[static_cast<size_t>(fam[q])]];
   // F = 1 at the start
   double* F = s.data(defGrad_);
   for (Index i : mine) Eigen::Map<Mat<D>>(F + i * D * D).setIdentity();
@@ -787,22 +808,22 @@ void ElasticSolidModule::kinematicsDim(Simulation& sim) {
   if (s.ghostCount() > 0) s.refreshGhosts(disp_);
 
   if (formulation_ == Formulation::TotalLagrangian) {
-    const std::int32_t* fam = s.data(family_);
-    const std::int32_t* famN = s.data(familyCount_);
-    const double* G = s.data(famGrad_);
+    const std::int32_t* fam = famIds_.data();
+    const std::int32_t* row = s.data(familyRow_);
+    const std::int64_t* off = famOffset_.data();
+    const double* G = famG_.data();
     double* F = s.data(defGrad_);
     const double* m = s.data(s.mass());
-    const int cap = familyCapacity_;
     Index bad = n;
 #pragma omp parallel for schedule(static) reduction(min : bad) if (n > 512)
     for (Index i = 0; i < n; ++i) {
       if (slotOf(mat[i]) < 0) continue;
       const Vec<D> ui = Eigen::Map<const Vec<D>>(u + i * D);
       Mat<D> Fi = Mat<D>::Identity();
-      for (int q = 0; q < famN[i]; ++q) {
-        const Index j = idToIndex_[static_cast<size_t>(fam[i * cap + q])];
+      for (std::int64_t q = off[row[i]]; q < off[row[i] + 1]; ++q) {
+        const Index j = idToIndex_[static_cast<size_t>(fam[q])];
         const double Vj = m[j] / mats_[static_cast<size_t>(slotOf(mat[j]))].density;
-        const Vec<D> g = Eigen::Map<const Vec<D>>(G + (i * cap + q) * D);
+        const Vec<D> g = Eigen::Map<const Vec<D>>(G + q * D);
         Fi.noalias() += Vj * (Eigen::Map<const Vec<D>>(u + j * D) - ui) * g.transpose();  // 2.67
       }
       Eigen::Map<Mat<D>>(F + i * D * D) = Fi;
@@ -989,15 +1010,15 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
   };
 
   if (formulation_ == Formulation::TotalLagrangian) {
-    const std::int32_t* fam = s.data(family_);
-    const std::int32_t* famN = s.data(familyCount_);
-    const double* G = s.data(famGrad_);
-    const std::int32_t* revSlot = compactFamily_ ? s.data(famRevSlot_) : nullptr;
-    const double* GR = compactFamily_ ? nullptr : s.data(famRevGrad_);
+    const std::int32_t* fam = famIds_.data();
+    const std::int32_t* row = s.data(familyRow_);
+    const std::int64_t* off = famOffset_.data();
+    const double* G = famG_.data();
+    const std::int32_t* revSlot = compactFamily_ ? famRevSlot_.data() : nullptr;
+    const double* GR = compactFamily_ ? nullptr : famGR_.data();
     const double* P = s.data(piola_);
     const double* Fg = s.data(defGrad_);
     const double* X = s.data(refPos_);
-    const int cap = familyCapacity_;
     // separations of family members across a periodic face: minimum image (the family holds
     // particle ids, not images)
     const std::array<double, 3> L = period_;
@@ -1009,12 +1030,65 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
             d[a] -= L[static_cast<size_t>(a)] * std::round(d[a] / L[static_cast<size_t>(a)]);
       return d;
     };
+    // Conservative hourglass control (docs/solid.md "Hourglass control"): the penalty energy
+    //   Phi = 1/4 sum_a sum_b c_ab |r_ab|^2,  r_ab = x_ab - (F_a + F_b)/2 X_ab  (x_ab = x_b - x_a),
+    //   c_ab = k_ab V_a V_b W0_ab / |X_ab|^2,  k_ab = (hourglass_a E_a + hourglass_b E_b)/2,
+    // vanishes for every linear and quadratic field. Its exact negative gradient is the direct
+    // pair force sum_b c_ab r_ab plus, through the dependence of F_a on the family of a, the
+    // momentum term of Eq. 2.76 with the stress -M_a/2 added to P_a,
+    //   M_a = sum_b k_ab V_b W0_ab / |X_ab|^2 r_ab (x) X_ab.
+    // First pass: P_a - M_a/2 and the direct force per unit reference volume, into hgScratch_;
+    // the energy density phi_a (Phi = sum V0_a phi_a) into solid_hourglass_energy.
+    const double* Pf = P;          // the stress the momentum equation reads
+    const double* hgDirect = nullptr;
+    if (anyHourglass_ && hourglassConservative_) {
+      if (hgScratch_.size() < static_cast<size_t>(n) * (D * D + D))
+        hgScratch_.resize(static_cast<size_t>(n) * (D * D + D));
+      double* Q = hgScratch_.data();
+      double* fd = Q + static_cast<size_t>(n) * D * D;
+      double* phi = s.data(hgEnergy_);
+#pragma omp parallel for schedule(static) if (n > 512)
+      for (Index i = 0; i < n; ++i) {
+        const int k = slotOf(mat[i]);
+        if (k < 0) {
+          phi[i] = 0.0;
+          continue;
+        }
+        const ElasticMaterial& e = mats_[static_cast<size_t>(k)];
+        const Mat<D> Fi = Eigen::Map<const Mat<D>>(Fg + i * D * D);
+        const Vec<D> Xi = Eigen::Map<const Vec<D>>(X + i * D);
+        const Vec<D> xi = Eigen::Map<const Vec<D>>(x + i * D);
+        Mat<D> M = Mat<D>::Zero();
+        Vec<D> direct = Vec<D>::Zero();
+        double e2 = 0.0;
+        for (std::int64_t q = off[row[i]]; q < off[row[i] + 1]; ++q) {
+          const Index j = idToIndex_[static_cast<size_t>(fam[q])];
+          const ElasticMaterial& ej = mats_[static_cast<size_t>(slotOf(mat[j]))];
+          const double kab = 0.5 * (e.hourglass * e.young + ej.hourglass * ej.young);
+          if (kab == 0.0) continue;
+          const Vec<D> Xji = minimumImage(Vec<D>(Eigen::Map<const Vec<D>>(X + j * D) - Xi));
+          const Vec<D> xji = minimumImage(Vec<D>(Eigen::Map<const Vec<D>>(x + j * D) - xi));
+          const double r0 = Xji.norm();
+          const double c = kab * (m[j] / ej.density) * W.value(r0) / (r0 * r0);
+          const Vec<D> res = xji - 0.5 * (Fi + Eigen::Map<const Mat<D>>(Fg + j * D * D)) * Xji;
+          M.noalias() += c * res * Xji.transpose();
+          direct.noalias() += c * res;
+          e2 += c * res.squaredNorm();
+        }
+        Eigen::Map<Mat<D>>(Q + i * D * D) = Eigen::Map<const Mat<D>>(P + i * D * D) - 0.5 * M;
+        Eigen::Map<Vec<D>>(fd + i * D) = direct;
+        phi[i] = 0.25 * e2;
+      }
+      Pf = Q;
+      hgDirect = fd;
+    }
+    const bool hgPairwise = anyHourglass_ && !hourglassConservative_;
 #pragma omp parallel for schedule(static) if (n > 512)
     for (Index i = 0; i < n; ++i) {
       const int k = slotOf(mat[i]);
       if (k < 0) continue;
       const ElasticMaterial& e = mats_[static_cast<size_t>(k)];
-      const Mat<D> Pi = Eigen::Map<const Mat<D>>(P + i * D * D);
+      const Mat<D> Pi = Eigen::Map<const Mat<D>>(Pf + i * D * D);
       const Mat<D> Fi = Eigen::Map<const Mat<D>>(Fg + i * D * D);
       const Vec<D> Xi = Eigen::Map<const Vec<D>>(X + i * D);
       Vec<D> fhg = Vec<D>::Zero();
@@ -1023,14 +1097,14 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
       Vec<D> f = Vec<D>::Zero(), fav = Vec<D>::Zero(), dvx = Vec<D>::Zero();
       Mat<D> Fdot = Mat<D>::Zero();
       const bool av = e.avAlpha > 0.0 || e.avBeta > 0.0;
-      for (int q = 0; q < famN[i]; ++q) {
-        const Index j = idToIndex_[static_cast<size_t>(fam[i * cap + q])];
+      for (std::int64_t q = off[row[i]]; q < off[row[i] + 1]; ++q) {
+        const Index j = idToIndex_[static_cast<size_t>(fam[q])];
         const ElasticMaterial& ej = mats_[static_cast<size_t>(slotOf(mat[j]))];
         const double Vj = m[j] / ej.density;
-        const Vec<D> g = Eigen::Map<const Vec<D>>(G + (i * cap + q) * D);
+        const Vec<D> g = Eigen::Map<const Vec<D>>(G + q * D);
         const Vec<D> gr = Eigen::Map<const Vec<D>>(
-            revSlot ? G + (j * cap + revSlot[i * cap + q]) * D : GR + (i * cap + q) * D);
-        const Mat<D> Pj = Eigen::Map<const Mat<D>>(P + j * D * D);
+            revSlot ? G + (off[row[j]] + revSlot[q]) * D : GR + q * D);
+        const Mat<D> Pj = Eigen::Map<const Mat<D>>(Pf + j * D * D);
         f.noalias() += Vj * (Pi * g - Pj * gr);  // 2.76 (times m_a / V_a = rho0_a)
         const Vec<D> vji = Eigen::Map<const Vec<D>>(v + j * D) - vi;
         Fdot.noalias() += Vj * vji * g.transpose();  // 2.68
@@ -1039,7 +1113,7 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
           const double Pi_ab = viscosity(e, ej, -vji, rij, rho[i], rho[j]);
           fav.noalias() -= m[j] * Pi_ab * 0.5 * (g - gr);  // antisymmetrised reference gradient
         }
-        if (e.hourglass > 0.0) {
+        if (hgPairwise && e.hourglass > 0.0) {
           // Hourglass control (Ganzenmueller 2015): the part of the pair's current separation
           // that the particles' own F do not predict is pushed back along the pair, with a
           // spring of stiffness hourglass * E * W0 / |X_ab|^2; zero for any linear field.
@@ -1062,8 +1136,11 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
           dvx.noalias() += m[j] * 2.0 * vji / (rho[i] + rho[j]) * w;
         }
       }
+      if (hgDirect) fhg = Eigen::Map<const Vec<D>>(hgDirect + i * D);
       const Vec<D> a = (f + fhg) / e.density;
-      wRate[i] += (Pi.cwiseProduct(Fdot)).sum();  // 2.77: dw/dt = P : dF/dt (per unit volume)
+      // 2.77: dw/dt = P : dF/dt (per unit volume), with the material's stress P (not the
+      // effective stress of the hourglass control, whose energy is solid_hourglass_energy)
+      wRate[i] += (Eigen::Map<const Mat<D>>(P + i * D * D).cwiseProduct(Fdot)).sum();
       const Vec<D> extra = fav - e.damping * vi;
       if (xsphRate) Eigen::Map<Vec<D>>(xsphRate + i * D) += e.xsph * dvx;
       const Vec<D> fext = Eigen::Map<const Vec<D>>(fb + i * D) *
@@ -1072,6 +1149,9 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
       if (motion[i] == kMotionFree) {
         workRate[i * 3 + 1] += vi.dot(fext);
         workRate[i * 3 + 2] -= m[i] * vi.dot(extra);
+        // the pairwise hourglass spring is not the gradient of an energy: its power is counted
+        // with the dissipation, so the balance closes with either form
+        if (hgPairwise) workRate[i * 3 + 2] -= m[i] / e.density * vi.dot(fhg);
       }
     }
     return;
@@ -1201,13 +1281,14 @@ double ElasticSolidModule::elasticTimeStepLimit(const Simulation& sim) const {
   return courant * solidKernel(sim).h() / c;
 }
 
-double ElasticSolidModule::deferredBytesPerParticle(const Simulation& sim,
-                                                    double neighbours) const {
+double ElasticSolidModule::deferredBytesPerParticle(
+    const Simulation& sim, double neighbours, const std::vector<Index>& particlesPerMaterial) const {
   if (formulation_ != Formulation::TotalLagrangian) return 0.0;
-  // The family capacity is the largest reference family. On the particle lattice the sites at
-  // exactly the support radius fall in or out by round-off, so count them in (and the site
-  // itself): measured cap 123 on the 64^3 Ketton image at support 3 dx, where the strict count
-  // `neighbours` is 92. An upper bound for lattice-placed solids.
+  // The family size is bounded by the sites within the support on the particle lattice: the
+  // sites at exactly the support radius fall in or out by round-off, so count them in (and the
+  // site itself): 123 at support 3 dx in 3D, where the strict count `neighbours` is 92 (the
+  // measured mean on the 64^3 Ketton image is ~100: pore walls have fewer). An upper bound for
+  // lattice-placed solids.
   const int d = sim.dimension();
   const double s = sim.kernel.support() / sim.spacing;
   const int r = static_cast<int>(std::floor(s * (1.0 + 1e-9)));
@@ -1217,12 +1298,25 @@ double ElasticSolidModule::deferredBytesPerParticle(const Simulation& sim,
     for (int b = (d > 1 ? -r : 0); b <= (d > 1 ? r : 0); ++b)
       for (int c = (d > 2 ? -r : 0); c <= (d > 2 ? r : 0); ++c)
         if (static_cast<double>(a * a + b * b + c * c) <= r2) ++inclusive;
-  const double cap = std::max({1.0, neighbours, static_cast<double>(inclusive)});
-  // family ids + g_ab, and g_ba (family_storage fast) or its slot (compact), + the member count
-  return compactFamily_ ? cap * (2.0 * sizeof(std::int32_t) + d * sizeof(double)) +
-                              sizeof(std::int32_t)
-                        : cap * (sizeof(std::int32_t) + 2.0 * d * sizeof(double)) +
-                              sizeof(std::int32_t);
+  const double members = std::max({1.0, neighbours, static_cast<double>(inclusive)});
+  // Held for the solid particles only (compressed rows): per member the id + g_ab, and g_ba
+  // (family_storage fast) or its slot (compact); per solid particle the row offset; per
+  // particle of the scene the solid_family_row field.
+  double all = 0.0, mine = 0.0;
+  for (size_t id = 0; id < particlesPerMaterial.size(); ++id) {
+    all += static_cast<double>(particlesPerMaterial[id]);
+    if (slotOf(static_cast<int>(id)) >= 0) mine += static_cast<double>(particlesPerMaterial[id]);
+  }
+  const double share = all > 0.0 ? mine / all : 1.0;
+  const double perMember = compactFamily_
+                               ? 2.0 * sizeof(std::int32_t) + d * sizeof(double)
+                               : sizeof(std::int32_t) + 2.0 * d * sizeof(double);
+  return share * (members * perMember + sizeof(std::int64_t)) + sizeof(std::int32_t);
+}
+
+std::uint64_t ElasticSolidModule::heldBytes() const {
+  return famOffset_.size() * sizeof(std::int64_t) + famIds_.size() * sizeof(std::int32_t) +
+         famRevSlot_.size() * sizeof(std::int32_t) + (famG_.size() + famGR_.size()) * sizeof(double);
 }
 
 double ElasticSolidModule::timeStepLimit(const Simulation& sim) const {
@@ -1309,6 +1403,24 @@ double ElasticSolidModule::kineticEnergy(const Simulation& sim) const {
   return e;
 }
 
+double ElasticSolidModule::hourglassEnergy(const Simulation& sim) const {
+  if (!hgEnergy_.valid()) return 0.0;
+  const ParticleStore& s = sim.store;
+  const Index n = s.realCount();
+  const std::int32_t* mat = s.data(s.material());
+  const double* phi = s.data(hgEnergy_);
+  const double* m = s.data(s.mass());
+  const std::int32_t* src = anyMirror_ ? s.data(mirror_) : nullptr;
+  double e = 0.0;
+#pragma omp parallel for schedule(static) reduction(+ : e) if (n > 512)
+  for (Index i = 0; i < n; ++i) {
+    const int k = slotOf(mat[i]);
+    if (k < 0 || (src && src[i] > 0)) continue;  // mirror layers are images, not material
+    e += m[i] / mats_[static_cast<size_t>(k)].density * phi[i];
+  }
+  return e;
+}
+
 double ElasticSolidModule::internalEnergy(const Simulation& sim) const {
   const ParticleStore& s = sim.store;
   const Index n = s.realCount();
@@ -1345,9 +1457,11 @@ std::array<double, 3> ElasticSolidModule::work(const Simulation& sim) const {
 void ElasticSolidModule::diagnostics(const Simulation& sim,
                                      std::vector<std::pair<std::string, double>>& columns) const {
   const double ke = kineticEnergy(sim), el = elasticEnergy(sim), in = internalEnergy(sim);
+  const double hg = hourglassEnergy(sim);
   const auto w = work(sim);
   columns.emplace_back("solid_kinetic_energy", ke);
   columns.emplace_back("solid_elastic_energy", el);
+  if (hgEnergy_.valid()) columns.emplace_back("solid_hourglass_energy", hg);
   columns.emplace_back("solid_internal_energy", in);
   columns.emplace_back("solid_boundary_work", w[0]);
   columns.emplace_back("solid_external_work", w[1]);
@@ -1359,7 +1473,7 @@ void ElasticSolidModule::diagnostics(const Simulation& sim,
     columns.emplace_back("solid_damage_dissipation_yc", damageDissipationYc(sim));
     columns.emplace_back("solid_damage_clipped", static_cast<double>(clippedUpdates_));
   }
-  columns.emplace_back("solid_energy_balance", ke + el - w[0] - w[1] + w[2] + dd);
+  columns.emplace_back("solid_energy_balance", ke + el + hg - w[0] - w[1] + w[2] + dd);
 }
 
 void ElasticSolidModule::checkHealth(const Simulation& sim, const HealthLimits& limits,
@@ -1423,7 +1537,7 @@ void ElasticSolidModule::checkHealth(const Simulation& sim, const HealthLimits& 
 }
 
 bool ElasticSolidModule::energyAccount(const Simulation& sim, EnergyAccount& account) const {
-  const double el = elasticEnergy(sim);
+  const double el = elasticEnergy(sim) + hourglassEnergy(sim);
   const auto w = work(sim);
   account.stored += el;
   account.storedRange += el;

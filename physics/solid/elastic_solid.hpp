@@ -122,7 +122,8 @@ class ElasticSolidModule : public Module {
   double timeStepLimit(const Simulation& sim) const override;
   /// The TL reference family registered in initialise(): per member an id, a slot (int32 each)
   /// and D gradient doubles, plus the member count (docs/particle-store.md "Memory").
-  double deferredBytesPerParticle(const Simulation& sim, double neighbours) const override;
+  double deferredBytesPerParticle(const Simulation& sim, double neighbours,
+                                  const std::vector<Index>& particlesPerMaterial) const override;
   /// solid-solid (the fluid-solid pairs belong to the coupling module).
   std::vector<PairClass> ownedPairs() const override {
     return {PairClass(kPhaseSolid, kPhaseSolid)};
@@ -144,6 +145,13 @@ class ElasticSolidModule : public Module {
   double elasticEnergy(const Simulation& sim) const;
   /// Kinetic energy of the solid's non-fixed particles [J].
   double kineticEnergy(const Simulation& sim) const;
+  /// Penalty energy of the conservative hourglass control, sum V0 phi_hg (0 without it) [J]:
+  /// a stored energy like the elastic one (docs/solid.md "Hourglass control").
+  double hourglassEnergy(const Simulation& sim) const;
+  /// True when the hourglass force is the gradient of hourglassEnergy() (hourglass_form
+  /// conservative, the default); false: Ganzenmueller's pair spring (pairwise), whose power is
+  /// counted in the dissipated energy.
+  bool hourglassConservative() const { return hourglassConservative_; }
   /// Integrated internal energy sum V0 w (Eqs. 2.77 / 2.87, w per unit reference volume) [J].
   double internalEnergy(const Simulation& sim) const;
   /// Sums of solid_work: boundary work, external (traction) work, dissipated energy [J].
@@ -152,6 +160,10 @@ class ElasticSolidModule : public Module {
   double elasticTimeStepLimit(const Simulation& sim) const;
   /// Largest reference family (TL) [-].
   int familyCapacity() const { return familyCapacity_; }
+  /// Members of all TL reference families, and the bytes the module holds for them (outside the
+  /// store: ids, gradients, row offsets).
+  std::int64_t familyMembers() const { return famOffset_.empty() ? 0 : famOffset_.back(); }
+  std::uint64_t heldBytes() const override;
   // ---- damage (docs/damage.md) ----
   /// True when some material has a `damage:` law (the damage fields exist).
   bool hasDamage() const { return anyDamage_; }
@@ -191,14 +203,26 @@ class ElasticSolidModule : public Module {
   std::array<double, 3> waveAmplitude_{0, 0, 0}, waveVector_{0, 0, 0};
 
   RealField refPos_, disp_, strain_, stress_, energy_, energyRate_, work_, workRate_, bcForce_;
-  RealField defGrad_, piola_, famGrad_, famRevGrad_;  // famRevGrad_: family_storage fast
-  IntField famRevSlot_;                                 // family_storage compact
+  RealField defGrad_, piola_;
+  // hourglass control (TL): the form, its energy density field (conservative form) and the
+  // per-step scratch of the conservative form (effective stress P - M/2 and the direct pair
+  // force per particle; grows with the particle count, never shrinks)
+  bool anyHourglass_ = false, hourglassConservative_ = true;
+  RealField hgEnergy_;
+  std::vector<double> hgScratch_;
+  // TL reference family, held by the module in compressed rows over the solid particles
+  // (initialise): member ids, g_ab, and g_ba (family_storage fast) or the slot of b's own
+  // entry for a (compact); a particle's row is its solid_family_row field (-1: none).
+  IntField familyRow_;
+  std::vector<std::int64_t> famOffset_;
+  std::vector<std::int32_t> famIds_, famRevSlot_;
+  std::vector<double> famG_, famGR_;
   bool compactFamily_ = false;
   RealField densityRate_, xsph_;
   CorrectionFields corrFields_;
   NeighbourList solidNeighbours_;
   std::vector<double> volume_;
-  IntField bc_, mirror_, family_, familyCount_;
+  IntField bc_, mirror_;
   bool anyMirror_ = false;
   std::string formulationWhere_;  ///< "file:line: key 'materials[k].formulation'", for messages
   int familyCapacity_ = 0;

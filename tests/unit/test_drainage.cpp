@@ -199,3 +199,67 @@ TEST(Drainage, RampRaisesTheBodyForceLinearly) {
     EXPECT_NEAR(acc[2 * probe + 1], d.bodyForce() * std::min(1.0, t / 0.002), 1e-12) << t;
   }
 }
+
+// Dimensionless numbers of Eqs. 5.11-5.14: the pore size is the hydraulic diameter 4 V / S of the
+// slab's pore space (a slit of width w: 2 w), the gas velocity the volume-weighted mean of the
+// invading fluid along the push direction, Ca = mu_g v_g / gamma and Re = rho_g v_g L / mu_g.
+TEST(Drainage, PoreSizeIsTheHydraulicDiameterOfTheSlabsPores) {
+  // The channel is a slit 4 dx wide and 10 dx long: V = 40 dx^2, S = 20 dx faces: L = 8 dx.
+  Scene s = loadSceneText(scene(kDrainage), "drainage.yaml");
+  EXPECT_NEAR(drainage(s).poreSize(), 0.008, 1e-12);
+  EXPECT_NEAR(drainage(s).measurePoreSize(*s.sim), 0.008, 1e-12);
+  // A given pore size is used as given.
+  Scene given = loadSceneText(
+      scene("{invading: gas, defending: water, axis: y, sample: [0.01, 0.02], pore_size: 0.003}"),
+      "given.yaml");
+  EXPECT_NEAR(drainage(given).poreSize(), 0.003, 1e-15);
+}
+
+TEST(Drainage, CapillaryAndReynoldsNumbersFromTheMeasuredGasVelocity) {
+  std::string text = scene(kDrainage);
+  text += "fluid: {surface_tension: 0.02}\n";
+  Scene s = loadSceneText(text, "numbers.yaml");
+  Simulation& sim = *s.sim;
+  ParticleStore& st = sim.store;
+  const double* x = st.data(st.position());
+  double* v = st.data(st.velocity());
+  std::int32_t* mt = st.data(st.material());
+  // Gas in the lower half of the channel moving at -0.3 m/s (the push is towards -y) and the
+  // water above it at rest: v_g = 0.3 m/s along the push.
+  for (Index i = 0; i < st.realCount(); ++i) {
+    v[2 * i] = v[2 * i + 1] = 0.0;
+    if (mt[i] == 0 && x[2 * i + 1] < 0.015) {
+      mt[i] = 1;
+      v[2 * i + 1] = -0.3;
+      v[2 * i] = 0.7;  // across the push: not counted
+    }
+  }
+  EXPECT_NEAR(column(sim, "drainage_gas_velocity"), 0.3, 1e-12);
+  EXPECT_NEAR(column(sim, "drainage_capillary_number"), 1.0e-5 * 0.3 / 0.02, 1e-15);  // 5.12a
+  EXPECT_NEAR(column(sim, "drainage_reynolds_number"), 10.0 * 0.3 * 0.008 / 1.0e-5,
+              1e-9);  // 5.14a with L = 8 dx
+}
+
+TEST(Drainage, InfoPrintsSimulatedAndPhysicalNumbers) {
+  std::string text = scene(
+      "{invading: gas, defending: water, axis: y, sample: [0.01, 0.02], pressure_drop: 0.4,"
+      " physical: {invading_density: 700, defending_density: 1000, invading_viscosity: 5.0e-5,"
+      " defending_viscosity: 1.0e-3, surface_tension: 0.03, pore_size: 1.0e-4,"
+      " velocity: 1.0e-5}}");
+  text += "fluid: {surface_tension: 0.02, gravity: [0, -9.81]}\n";
+  Scene s = loadSceneText(text, "info.yaml");
+  const std::string d = drainage(s).describe(*s.sim);
+  // simulated: Bo = (1000 - 10) 9.81 0.008^2 / 0.02 = 31.1, M = 0.01; physical:
+  // Bo = 300 9.81 1e-8 / 0.03 = 9.81e-4, Ca = 5e-5 1e-5 / 0.03 = 1.67e-8, M = 0.05,
+  // Re = 700 1e-5 1e-4 / 5e-5 = 0.014.
+  for (const char* expect : {"Bo (5.11a)    31.1        0.000981", "Ca (5.12a)", "1.67e-08",
+                             "M (5.13a)     0.01        0.05", "0.014", "L = 0.008 m"})
+    EXPECT_NE(d.find(expect), std::string::npos) << expect << "\n" << d;
+  // An unknown key of `physical:` is named.
+  const std::string bad = message([] {
+    loadSceneText(scene("{invading: gas, defending: water, axis: y, sample: [0.01, 0.02],"
+                        " physical: {gas_viscocity: 1}}"),
+                  "bad.yaml");
+  });
+  EXPECT_NE(bad.find("gas_viscocity"), std::string::npos) << bad;
+}

@@ -107,6 +107,8 @@ TEST(DrainageRestart, RestartedRunMatchesTheUninterruptedOne) {
   double worst = 0.0;
   for (size_t k = 0; k < ca.size(); ++k) {
     EXPECT_EQ(ca[k].first, cb[k].first);
+    // NaN in both (e.g. the gas velocity while no gas is in the slab) is the same state.
+    if (std::isnan(ca[k].second) && std::isnan(cb[k].second)) continue;
     const double scale = std::max({std::abs(ca[k].second), std::abs(cb[k].second), 1e-30});
     EXPECT_LT(std::abs(ca[k].second - cb[k].second) / scale, 1e-8) << ca[k].first;
     worst = std::max(worst, std::abs(ca[k].second - cb[k].second) / scale);

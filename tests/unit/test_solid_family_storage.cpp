@@ -12,6 +12,7 @@
 #include "libcore/parameters.hpp"
 #include "libcore/runner.hpp"
 #include "libcore/scene.hpp"
+#include "physics/solid/elastic_solid.hpp"
 
 using namespace poresph;
 
@@ -59,13 +60,39 @@ TEST(SolidFamilyStorage, CompactRunsBitwiseAsFastWithLessMemory) {
     vmax = std::max(vmax, std::abs(a.data(a.velocity())[q]));
   }
   EXPECT_GT(vmax, 0.0);
-  EXPECT_TRUE(a.has("solid_family_reverse_gradient"));
-  EXPECT_FALSE(a.has("solid_family_reverse_slot"));
-  EXPECT_TRUE(b.has("solid_family_reverse_slot"));
-  EXPECT_FALSE(b.has("solid_family_reverse_gradient"));
-  const int cap = a.components(a.integer("solid_family").id);
-  EXPECT_EQ(a.bytesPerParticle() - b.bytesPerParticle(),
-            static_cast<std::size_t>(cap) * (d * sizeof(double) - sizeof(std::int32_t)));
+  // The family rows are held by the module (compressed over the solid particles): compact keeps
+  // a 4-byte slot instead of D doubles per member; the store holds the same fields in both.
+  const auto* sa = dynamic_cast<const solid::ElasticSolidModule*>(fast.sim->modules.front().get());
+  const auto* sb =
+      dynamic_cast<const solid::ElasticSolidModule*>(compact.sim->modules.front().get());
+  ASSERT_NE(sa, nullptr);
+  ASSERT_NE(sb, nullptr);
+  const std::int64_t members = sa->familyMembers();
+  EXPECT_EQ(members, sb->familyMembers());
+  EXPECT_GT(members, a.realCount());
+  EXPECT_EQ(a.bytesPerParticle(), b.bytesPerParticle());
+  EXPECT_EQ(sa->heldBytes() - sb->heldBytes(),
+            static_cast<std::uint64_t>(members) * (d * sizeof(double) - sizeof(std::int32_t)));
+}
+
+// The family is held only for the solid's own particles, in rows of their own length (not padded
+// to the largest family): the bytes held equal the members times their size plus one offset per
+// solid particle. (Other particles hold the 4-byte row index only: OnlyWhatASceneNeeds tests.)
+TEST(SolidFamilyStorage, HeldOnlyForSolidParticlesInRowsOfTheirOwnLength) {
+  Scene fast = loadSceneText(cantilever("", "total_lagrangian"), "fast.yaml");
+  const auto* m = dynamic_cast<const solid::ElasticSolidModule*>(fast.sim->modules.front().get());
+  ASSERT_NE(m, nullptr);
+  const ParticleStore& st = fast.sim->store;
+  const std::int32_t* row = st.data(st.integer("solid_family_row"));
+  Index solidParticles = 0;
+  for (Index i = 0; i < st.realCount(); ++i) solidParticles += row[i] >= 0 ? 1 : 0;
+  ASSERT_GT(solidParticles, 0);
+  const int d = fast.sim->dimension();
+  const std::int64_t members = m->familyMembers();
+  EXPECT_LT(members, static_cast<std::int64_t>(m->familyCapacity()) * solidParticles)
+      << "rows padded to the largest family";
+  EXPECT_EQ(m->heldBytes(), static_cast<std::uint64_t>(solidParticles + 1) * 8 +
+                                static_cast<std::uint64_t>(members) * (4 + 2 * d * 8));
 }
 
 TEST(SolidFamilyStorage, RefusedWithoutAFamilyOrWithAnUnknownValue) {
