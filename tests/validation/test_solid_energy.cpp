@@ -21,7 +21,9 @@ using namespace poresph::solid;
 namespace {
 
 std::string blockScene(double hourglass, const std::string& extra) {
-  return "dimension: 2\n"
+  const char* form = std::getenv("PORESPH_HG_FORM");
+  return std::string(form ? std::string("solid: {hourglass_form: ") + form + "}\n" : "") +
+         "dimension: 2\n"
          "domain: {lo: [-0.02, -0.02], hi: [0.04, 0.02]}\n"
          "spacing: 0.001\n"
          "kernel: wendland_c2\n"
@@ -59,14 +61,15 @@ Drift vibrate(const std::string& integratorName, double hourglass, double dtFact
   auto integrator = makeIntegrator(integratorName);
   sim.evaluateRates();
   Drift d;
-  d.e0 = solid->kineticEnergy(sim) + solid->elasticEnergy(sim);
+  d.e0 = solid->kineticEnergy(sim) + solid->elasticEnergy(sim) + solid->hourglassEnergy(sim);
   const double fixedDt = dtFactor * solid->elasticTimeStepLimit(sim);
   while (sim.time < duration) {
     double dt = fixedDt;
     if (dtFactor < 0.0) dt = sc.nextTimeStep() * (-dtFactor) / 0.2;
     integrator->step(sim, dt);
     ++d.steps;
-    const double e = solid->kineticEnergy(sim) + solid->elasticEnergy(sim) + solid->work(sim)[2];
+    const double e = solid->kineticEnergy(sim) + solid->elasticEnergy(sim) +
+                     solid->hourglassEnergy(sim) + solid->work(sim)[2];
     d.last = (e - d.e0) / d.e0;
     d.worst = std::max(d.worst, std::abs(d.last));
   }
