@@ -110,8 +110,8 @@ inline PlateResult runPlate(const PlateSetup& s) {
   const std::int32_t* mo = sim.store.data(sim.motion);
   auto balance = [&] {
     const auto w = solid.work(sim);
-    return solid.kineticEnergy(sim) + solid.elasticEnergy(sim) + w[2] + solid.damageDissipation(sim) -
-           w[0] - w[1];
+    return solid.kineticEnergy(sim) + solid.elasticEnergy(sim) + solid.hourglassEnergy(sim) + w[2] +
+           solid.damageDissipation(sim) - w[0] - w[1];
   };
   if (s.maxSteps >= 0) {  // cost measurement
     const auto c0 = std::chrono::steady_clock::now();

@@ -18,9 +18,9 @@
 // Asserted: no damage before t = L/c; damage only within 2h of the centre; the damaged width at
 // t = 3L/(2c) within 30 % of 2h and within 20 % between 101, 151 and 201 points; with 2h = 10 and
 // 20 mm the width grows with 2h. The energy balance (kinetic + elastic + dissipated - boundary
-// work) is asserted below 3 %: the same run without damage leaves 2.2 % (velocity jump at the
-// driven layers, artificial viscosity; the solid's bookkeeping, not the damage's), so the issue's
-// 1 % is not met here.
+// work) is asserted below the issue's 1 %: measured 3.6e-4 of the work (2.6e-6 without damage).
+// Until 2026-11-24 it left 2.2 %: the viscous work of the pairs between driven and free particles
+// was counted on the free side only (docs/solid.md "Energy bookkeeping").
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -180,7 +180,7 @@ TEST(DamageBar, LocalisesAtTheCentreAfterTheWavesMeetWidthFollows2h) {
     EXPECT_LE(r.maxDistance, lambda) << "damage away from the centre";
     EXPECT_GT(r.dmax, 0.0);
     EXPECT_LT(std::abs(r.width - lambda) / lambda, 0.30);
-    EXPECT_LT(r.balance, 0.03);
+    EXPECT_LT(r.balance, 0.01);
     const std::string res = std::to_string(n) + " points, 2h = 5 mm, TL, AV 10/1, dt = 0.5 x Eq. 2.50";
     test::recordValidation({"damage_bar_" + std::to_string(n), "damaged width at t = 3L/(2c) [m]",
                             r.width, lambda, std::abs(r.width - lambda) / lambda, res, r.wall,
@@ -192,7 +192,7 @@ TEST(DamageBar, LocalisesAtTheCentreAfterTheWavesMeetWidthFollows2h) {
                             "Bazant & Belytschko via thesis Sec. 4.2"});
     test::recordValidation({"damage_bar_" + std::to_string(n),
                             "energy balance residual / boundary work", r.balance, 0.0, r.balance,
-                            res, r.wall, "< 3 % (issue: 1 %; 2.2 % without damage)", "Eqs. 4.25-4.26 with the boundary work"});
+                            res, r.wall, "< 1 % (issue: 1 %)", "Eqs. 4.25-4.26 with the boundary work"});
   }
   double wmin = 1e9, wmax = 0.0;
   for (const auto& r : runs) {

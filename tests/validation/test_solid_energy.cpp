@@ -12,7 +12,7 @@
 #include "libcore/integrator.hpp"
 #include "libcore/phases.hpp"
 #include "libcore/scene.hpp"
-#include "physics/solid/elastic_solid.hpp"
+#include "physics/solid/solid_scenes.hpp"
 #include "tests/support/validation_record.hpp"
 
 using namespace poresph;
@@ -193,4 +193,74 @@ TEST(SolidEnergy, ExploreDroplet) {
                   solidEnergy() - es0, worstSolid);
       std::fflush(stdout);
     }
+}
+
+namespace {
+
+// The softening bar of tests/validation/test_damage_bar.cpp without damage (1D TL, ends driven
+// at -+70 m/s over one support from t = 0): |change of kinetic + elastic + dissipated - boundary
+// work| / boundary work at t = 1.5 L / c, the balance taken after step `from`.
+double barBalance(int n, double dtFactor, double alpha, double beta, int from, double rampTime,
+                  double* workOut = nullptr) {
+  const double E = 70.8e9, rho = 1550.0, L = 0.1, v0 = 70.0, lambda = 5e-3;
+  Simulation sim(1);
+  char mat[512];
+  std::snprintf(mat, sizeof mat,
+                "{density: %g, young_modulus: %g, formulation: total_lagrangian, "
+                "artificial_viscosity: {alpha: %g, beta: %g}}",
+                rho, E, alpha, beta);
+  sim.addMaterial("bar", "elastic", mat, "test");
+  const double dx = 2.0 * L / (n - 1);
+  sim.spacing = dx;
+  sim.kernel = Kernel(KernelType::CubicSpline, 1, 0.5 * lambda);
+  sim.store.addParticles(n);
+  double* x = sim.store.data(sim.store.position());
+  for (int i = 0; i < n; ++i) x[i] = -L + i * dx;
+  sim.domain.lo = {-L - 10 * dx - 0.1, 0, 0};
+  sim.domain.hi = {L + 10 * dx + 0.1, 1, 1};
+  char sec[512];
+  std::snprintf(sec, sizeof sec,
+                "{boundaries: [{name: left, type: velocity, velocity: [%g], ramp_time: %g, box: {min: [-1], max: [%.9g]}}, "
+                "{name: right, type: velocity, velocity: [%g], ramp_time: %g, box: {min: [%.9g], max: [1]}}]}",
+                -v0, rampTime, -L + lambda - 0.25 * dx, v0, rampTime, L - lambda + 0.25 * dx);
+  std::unique_ptr<Module> mod = ModuleRegistry::create("solid");
+  std::vector<const Material*> mats{&sim.materials[0]};
+  ParameterSet section(YAML::Load(sec), "test", "solid");
+  mod->configure(sim, mats, &section);
+  auto* solid = dynamic_cast<ElasticSolidModule*>(mod.get());
+  sim.addModule(std::move(mod));
+  solid->initialise(sim);
+  auto balance = [&] {
+    const auto w = solid->work(sim);
+    return solid->kineticEnergy(sim) + solid->elasticEnergy(sim) + w[2] - w[0] - w[1];
+  };
+  const double c = std::sqrt(E / rho);
+  const double tEnd = 1.5 * L / c;
+  const double dt = dtFactor * solid->elasticTimeStepLimit(sim);
+  auto integrator = makeIntegrator("leapfrog");
+  double b0 = from == 0 ? balance() : 0.0;
+  long steps = 0;
+  while (sim.time < tEnd * (1.0 - 1e-9)) {
+    integrator->step(sim, std::min(dt, tEnd - sim.time));
+    if (++steps == from) b0 = balance();
+  }
+  const double w = solid->work(sim)[0];
+  if (workOut) *workOut = w;
+  return std::abs(balance() - b0) / std::abs(w);
+}
+
+}  // namespace
+
+TEST(SolidEnergy, ExploreBar) {
+  if (!std::getenv("PORESPH_SOLID_ENERGY")) GTEST_SKIP() << "set PORESPH_SOLID_ENERGY=1";
+  for (double ramp : {0.0, 2e-6})
+    for (int from : {0, 1})
+      for (double alpha : {10.0, 1.0, 0.0})
+        for (double f : {0.5, 0.25, 0.125}) {
+          double w = 0.0;
+          const double b = barBalance(201, f, alpha, alpha > 0 ? 1.0 : 0.0, from, ramp, &w);
+          std::printf("bar ramp %.0e from step %d alpha %4.1f dt %.3f: balance %.3e of work %.4g\n",
+                      ramp, from, alpha, f, b, w);
+          std::fflush(stdout);
+        }
 }
