@@ -1,6 +1,10 @@
-// Energy conservation of the Total-Lagrangian solid (issues 11 and 13: the balance closes to 1 %).
-// Explore driver (PORESPH_SOLID_ENERGY=1): a free 2D block vibrating, no damping, drift of
-// kinetic + elastic against the integrator, the step, hourglass control.
+// Energy conservation of the Total-Lagrangian solid (issues 11 and 13: the balance closes to 1 %),
+// docs/solid.md "Energy". Default tests: a free block keeps kinetic + elastic (+ hourglass penalty)
+// energy to second order in dt; the driven softening bar (no damage) closes its balance.
+// Explore drivers (PORESPH_SOLID_ENERGY=1, the studies quoted in the docs): the free block against
+// integrator, step and hourglass control (PORESPH_HG_FORM=pairwise for the old spring, PORESPH_A
+// amplitude, PORESPH_T duration); the droplet on a free block against two droplets without any
+// solid, with the work of the fluid-solid pairs on the solid; the bar against AV, step and ramp.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -131,7 +135,7 @@ TEST(SolidEnergy, ExploreDroplet) {
       "{name: block, model: elastic, density: 2000, young_modulus: 1.0e6, poisson_ratio: 0.25, "
       "formulation: total_lagrangian}";
   const int steps0 = std::getenv("PORESPH_STEPS") ? std::atoi(std::getenv("PORESPH_STEPS")) : 10000;
-  for (const std::string block : {blockLine, std::string()})
+  for (const std::string& block : {blockLine, std::string()})
     for (double cfl : {0.2, 0.1, 0.05}) {
       Scene sc = loadSceneText(dropletScene(cfl, block), "droplet.yaml");
       Simulation& sim = *sc.sim;
@@ -263,4 +267,47 @@ TEST(SolidEnergy, ExploreBar) {
                       ramp, from, alpha, f, b, w);
           std::fflush(stdout);
         }
+}
+
+// Issue 11/13: the energy of the TL solid closes to 1 %. A free block (10 x 20 particles, E 1 MPa,
+// nu 0.25, zero-mean velocity field 0.2 m/s, 10 ms, ~6 periods of the slowest mode, leapfrog)
+// conserves kinetic + elastic (+ the hourglass penalty energy) to second order in dt: the TL
+// force is the exact gradient of the stored energy (unit test SolidVariational), so what is left
+// is the integrator's. Without hourglass control and with the conservative one (default form).
+TEST(SolidEnergy, FreeBlockConservesEnergyToSecondOrderInDt) {
+  test::Stopwatch clock;
+  for (double hg : {0.0, 1.0}) {
+    const Drift coarse = vibrate("leapfrog", hg, 0.2, 0.2, 0.01);
+    const Drift fine = vibrate("leapfrog", hg, 0.1, 0.2, 0.01);
+    const double order = std::log2(coarse.worst / fine.worst);
+    std::printf("free block, hourglass %.0f: worst drift %.3e (dt 0.2 x Eq. 2.50), %.3e (0.1), "
+                "order %.2f\n", hg, coarse.worst, fine.worst, order);
+    // measured 9.0e-4 / 2.3e-4 (order 2.0) with and without hourglass control; the pairwise
+    // (Ganzenmueller) spring left 3.1 % at every dt, uncounted
+    EXPECT_LT(fine.worst, 1e-3) << "hourglass " << hg;
+    EXPECT_GT(order, 1.7) << "hourglass " << hg;
+    const std::string res = std::string("2D, 10 x 20 particles, h 1.3 dx, leapfrog, dt 0.1 x Eq. 2.50, ") +
+                            (hg > 0 ? "conservative hourglass 1" : "no hourglass control");
+    test::recordValidation({hg > 0 ? "solid_free_block_energy_hourglass" : "solid_free_block_energy",
+                            "max relative drift of kinetic + elastic + hourglass energy, 6 periods",
+                            fine.worst, 0.0, fine.worst, res, clock.seconds(), "< 0.1 %, order > 1.7",
+                            "conservation (issue 11: 1 %)"});
+  }
+}
+
+// The softening bar of issue 13 without damage (test_damage_bar.cpp: 201 points, 2h 5 mm, ends
+// driven at -+70 m/s from t = 0, artificial viscosity 10/1): kinetic + elastic + dissipated -
+// boundary work after the first step (the driven layers start at v at once) stays constant.
+TEST(SolidEnergy, DrivenBarBalanceCloses) {
+  test::Stopwatch clock;
+  double work = 0.0;
+  const double b = barBalance(201, 0.5, 10.0, 1.0, 1, 0.0, &work);
+  std::printf("driven bar (201 points, AV 10/1): balance %.3e of the boundary work %.4g J\n", b, work);
+  // measured 2.6e-6 (O(dt^2)); 2.2e-2 while the viscous work of the pairs with the driven
+  // layers was counted on the free side only
+  EXPECT_LT(b, 1e-4);
+  test::recordValidation({"solid_driven_bar_balance", "energy balance residual / boundary work", b,
+                          0.0, b, "1D, 201 points, 2h 5 mm, AV 10/1, dt 0.5 x Eq. 2.50, leapfrog",
+                          clock.seconds(), "< 1e-4 (issue 13: 1 %)",
+                          "Eqs. 4.25-4.26 (no damage): kinetic + elastic + dissipated - work"});
 }
