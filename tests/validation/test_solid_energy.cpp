@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <string>
 #include <vector>
 
@@ -343,4 +344,43 @@ TEST(SolidEnergy, DrivenBarBalanceCloses) {
                           0.0, b, "1D, 201 points, 2h 5 mm, AV 10/1, dt 0.5 x Eq. 2.50, leapfrog",
                           clock.seconds(), "< 1e-4 (issue 13: 1 %)",
                           "Eqs. 4.25-4.26 (no damage): kinetic + elastic + dissipated - work"});
+}
+
+// CPU time of the TL force stage (forces(): Eq. 2.76, 2.77, hourglass control) per particle and
+// call, 1 thread: no hourglass control, the pairwise spring, the conservative control.
+TEST(SolidEnergy, ExploreForceCost) {
+  if (!std::getenv("PORESPH_SOLID_ENERGY")) GTEST_SKIP() << "set PORESPH_SOLID_ENERGY=1";
+  for (int dim : {2, 3})
+    for (const char* form : {"none", "pairwise", "conservative"}) {
+      const int n = dim == 2 ? 100 : 20;
+      const double dx = 0.01;
+      Simulation sim(dim);
+      sim.addMaterial("clay", "elastic",
+                      std::string("{density: 2000, young_modulus: 1.0e9, poisson_ratio: 0.25, hourglass: ") +
+                          (std::string(form) == "none" ? "0" : "1") + "}",
+                      "test");
+      sim.spacing = dx;
+      sim.kernel = Kernel(KernelType::WendlandC2, dim, 1.3 * dx);
+      if (dim == 2) buildBlock<2>(sim, Vec<2>::Zero(), {n, n, 1}, dx);
+      else buildBlock<3>(sim, Vec<3>::Zero(), {n, n, n}, dx);
+      for (int a = 0; a < dim; ++a) {
+        sim.domain.lo[static_cast<size_t>(a)] = -dx;
+        sim.domain.hi[static_cast<size_t>(a)] = (n + 1) * dx;
+      }
+      ElasticSolidModule& solid = addSolidModule(
+          sim, std::string(form) == "pairwise" ? "{hourglass_form: pairwise}" : "");
+      solid.initialise(sim);
+      double* x = sim.store.data(sim.store.position());
+      for (Index i = 0; i < dim * sim.store.realCount(); ++i) x[i] *= 1.001 + 1e-4 * std::sin(1.0 * i);
+      sim.evaluateRates();
+      const int calls = dim == 2 ? 200 : 40;
+      const std::clock_t c0 = std::clock();
+      for (int k = 0; k < calls; ++k) solid.forces(sim);
+      const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
+      std::printf("%dD %-12s: %ld particles, family ~%lld, forces() %.3f us per particle-call (CPU)\n",
+                  dim, form, static_cast<long>(sim.store.realCount()),
+                  static_cast<long long>(solid.familyMembers() / sim.store.realCount()),
+                  1e6 * cpu / (calls * static_cast<double>(sim.store.realCount())));
+      std::fflush(stdout);
+    }
 }
