@@ -10,7 +10,8 @@
 //  - small_strain_displacement: Navier's equation (2.88) with the second-derivative operator of
 //    Eq. 2.46c / 2.89 (Eq. 2.90, written for 1D, 2D and 3D).
 // Plus Monaghan artificial viscosity (2.64-2.65), XSPH (2.66), viscous damping for dynamic
-// relaxation, TL hourglass control, boundary conditions (clamped and symmetry layers with mirror
+// relaxation, TL hourglass control (conservative penalty energy by default, or Ganzenmueller's
+// pairwise spring), boundary conditions (clamped and symmetry layers with mirror
 // images, imposed velocity/displacement ramps on all or some components (rollers), traction,
 // pressure) and energy bookkeeping. TL reference families cross periodic faces (images at
 // initialise, minimum-image separations). TL is the formulation that carries damage (issue 13,
@@ -22,8 +23,8 @@
 // solid_mirror_source (int, 1 + id of a layer particle's image; with mirror layers),
 // with XSPH the core field position_correction (Simulation::positionCorrection, shared with the
 // fluid);
-// TL: deformation_gradient, first_piola, solid_family (ids), solid_family_count,
-// solid_family_gradient, solid_family_reverse_gradient (or _reverse_slot); small strain: density_rate and the
+// TL: deformation_gradient, first_piola, solid_family_row (the family itself is held by the
+// module), solid_hourglass_energy (conservative hourglass control only); small strain: density_rate and the
 // correction state solid_correction_{matrix,shepard_sum,shepard_gradient} (libcore/corrections).
 #include <array>
 #include <string>
@@ -59,7 +60,7 @@ struct ElasticMaterial {
   double avBeta = 0.0;        ///< Eq. 2.64 beta
   double xsph = 0.0;          ///< Eq. 2.66 epsilon
   double damping = 0.0;       ///< viscous damping coefficient c [1/s]: a -= c v
-  double hourglass = 0.0;     ///< TL hourglass control coefficient (Ganzenmueller 2015) [-]
+  double hourglass = 0.0;     ///< TL hourglass control coefficient alpha (penalty alpha E) [-]
   /// Stress from strain and damage (elastic or an elasto-damage law of Chapter 4, key `damage:`
   /// of the material; physics/solid/constitutive_law.hpp, docs/damage.md).
   ConstitutiveLaw law;
