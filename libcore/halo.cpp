@@ -32,7 +32,8 @@ void PeriodicHalo::build(ParticleStore& store, const Domain& domain, double widt
     if (domain.periodic[static_cast<size_t>(a)] && domain.length(a) < width)
       throw InputError("periodic length along axis " + std::to_string(a) + " (" +
                        std::to_string(domain.length(a)) +
-                       " m) is shorter than the kernel support (" + std::to_string(width) + " m)");
+                       " m) is shorter than the halo width (the kernel support, plus the Verlet "
+                       "skin when one is set: " + std::to_string(width) + " m)");
   wrap(store, domain);
   const double* x = store.data(store.position());
   const Index n = store.realCount();
@@ -62,6 +63,11 @@ void PeriodicHalo::build(ParticleStore& store, const Domain& domain, double widt
         }
   }
   store.addGhosts(sources_, shifts_);
+}
+
+void PeriodicHalo::refresh(ParticleStore& store) const {
+  if (store.ghostCount() == 0) return;
+  store.refreshAllGhosts(shifts_);
 }
 
 }  // namespace poresph

@@ -16,6 +16,11 @@ class PeriodicHalo {
   /// periodic face (edges and corners included). Throws InputError if a periodic length is
   /// shorter than `width` (images of images would be needed).
   void build(ParticleStore& store, const Domain& domain, double width);
+  /// Moves the ghosts of the last build with their sources (every ghost field copied again,
+  /// positions shifted as built), without wrapping or choosing ghosts again: between two Verlet
+  /// searches, when no real particle has moved by more than the skin / 2 the build's width
+  /// included (Simulation::updateNeighbours).
+  void refresh(ParticleStore& store) const;
 
  private:
   std::vector<Index> sources_;

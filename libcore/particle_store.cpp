@@ -123,10 +123,23 @@ void ParticleStore::clearGhosts() {
 void ParticleStore::addGhosts(const std::vector<Index>& sources, const std::vector<double>& shifts) {
   const Index add = static_cast<Index>(sources.size());
   if (add == 0) return;
-  const Index first = size();
   nGhost_ += add;
   resizeAll(size());
   ghostSource_.insert(ghostSource_.end(), sources.begin(), sources.end());
+  copyToGhosts(nGhost_ - add, shifts);
+}
+
+void ParticleStore::refreshAllGhosts(const std::vector<double>& shifts) {
+  if (static_cast<Index>(shifts.size()) != nGhost_ * dim_)
+    throw std::logic_error("refreshAllGhosts: " + std::to_string(shifts.size()) +
+                           " shift components for " + std::to_string(nGhost_) + " ghosts");
+  copyToGhosts(0, shifts);
+}
+
+void ParticleStore::copyToGhosts(Index firstGhost, const std::vector<double>& shifts) {
+  const Index add = nGhost_ - firstGhost;
+  const Index first = nReal_ + firstGhost;
+  const Index* sources = ghostSource_.data() + firstGhost;
   for (size_t k = 0; k < specs_.size(); ++k) {
     const FieldSpec& s = specs_[k];
     const bool isPosition = static_cast<int>(k) == position_.id;

@@ -122,6 +122,10 @@ class ParticleStore {
   /// position shifted by shifts[D*k .. D*k+D). Only fields flagged kFieldToGhosts are copied
   /// (plus position); other fields of ghosts are left as they are.
   void addGhosts(const std::vector<Index>& sources, const std::vector<double>& shifts);
+  /// Copies every kFieldToGhosts field (and the position, plus shifts[D*k .. D*k+D) for ghost
+  /// k) from the sources into the existing ghosts: the ghosts follow their sources without
+  /// being rebuilt (the periodic halo between two Verlet searches).
+  void refreshAllGhosts(const std::vector<double>& shifts);
   /// The real particle each ghost is an image of (index g - realCount()).
   const std::vector<Index>& ghostSources() const { return ghostSource_; }
   /// Copies a field's values from the sources into the ghosts (after a module updated it).
@@ -138,6 +142,8 @@ class ParticleStore {
   std::size_t bytesPerParticle() const;
 
  private:
+  /// Copies the ghost fields of ghosts firstGhost.. from their sources, shifts[D*(g - firstGhost)..].
+  void copyToGhosts(Index firstGhost, const std::vector<double>& shifts);
   int addField(const std::string& name, FieldType type, int components, unsigned flags,
                const std::string& owner);
   int find(const std::string& name) const;

@@ -118,10 +118,16 @@ RealField Simulation::positionCorrection() {
 
 void Simulation::updateNeighbours() {
   const double support = kernel.support();
-  // Verlet skin (no periodic axis: a periodic halo is rebuilt every step, see VerletNeighbours).
-  verletActive_ = neighbourSkin > 0.0 && !domain.anyPeriodic();
+  // Verlet skin. With periodic axes the halo is built with the width support + skin and kept
+  // between two searches: the real particles are not wrapped then (one may stand up to skin / 2
+  // outside the box), and the ghosts follow their sources (PeriodicHalo::refresh). A particle
+  // within support of a periodic face at any step between the searches was within support +
+  // skin / 2 of it at the search, so its image exists; two images closer than support now were
+  // closer than support + skin then, so the pair is among the candidates.
+  verletActive_ = neighbourSkin > 0.0;
   if (verletActive_ && verlet.valid(store.data(store.position()), dimension(), store.realCount(),
                                     store.size(), support, neighbourSkin)) {
+    halo.refresh(store);
     verlet.filter(store.data(store.position()), dimension(), support, neighbours);
     return;
   }
@@ -132,7 +138,7 @@ void Simulation::updateNeighbours() {
     store.permute(order_);
   }
   ++neighbourBuilds_;
-  halo.build(store, domain, support);
+  halo.build(store, domain, verletActive_ ? support + neighbourSkin : support);
   if (verletActive_) {
     verlet.rebuild(search, store.data(store.position()), dimension(), store.realCount(),
                    store.size(), support, neighbourSkin);
