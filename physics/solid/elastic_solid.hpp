@@ -157,7 +157,8 @@ class ElasticSolidModule : public Module {
   double internalEnergy(const Simulation& sim) const;
   /// Sums of solid_work: boundary work, external (traction) work, dissipated energy [J].
   std::array<double, 3> work(const Simulation& sim) const;
-  /// The elastic CFL limit h sqrt(rho / (lambda + 2 mu)) (Eq. 2.50) over the materials.
+  /// The elastic CFL limit h sqrt(rho / (lambda + 2 mu)) (Eq. 2.50) over the materials, or
+  /// 2 / omega of the hourglass penalty's fastest mode where that is smaller (large alpha).
   double elasticTimeStepLimit(const Simulation& sim) const;
   /// Largest reference family (TL) [-].
   int familyCapacity() const { return familyCapacity_; }
@@ -209,6 +210,11 @@ class ElasticSolidModule : public Module {
   // per-step scratch of the conservative form (effective stress P - M/2 and the direct pair
   // force per particle; grows with the particle count, never shrinks)
   bool anyHourglass_ = false, hourglassConservative_ = true;
+  double hourglassOmega2_ = 0.0;  ///< largest omega^2 the hourglass penalty adds (step limit)
+ public:
+  /// The largest omega^2 of the hourglass control (0 without it) [1/s^2] (tests, docs).
+  double hourglassOmega2() const { return hourglassOmega2_; }
+ private:
   RealField hgEnergy_;
   std::vector<double> hgScratch_;
   // TL reference family, held by the module in compressed rows over the solid particles

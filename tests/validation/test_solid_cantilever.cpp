@@ -95,7 +95,7 @@ Result runCantilever(const std::string& formulation, int layersAcross, const std
 TEST(SolidCantilever, FirstModeAgainstThinPlateTheory) {
   // Plain TL (hourglass: 0) develops zero-energy modes in bending and inverts a particle after
   // about one period (measured: J < 0 at t = 0.30 s). Conservative hourglass control (the
-  // default form): 3 keeps it stable with the energy to 0.4 %; 1 and 2 let the zero-energy mode
+  // default form): 3 keeps it stable with the energy to 0.3 %; 1 and 2 let the zero-energy mode
   // that the mirror clamp excites grow after one period (energy +7.5 % / +2.3 % at 1.65
   // periods). The pairwise form at 1 dissipates 13 % of the energy over the same time, about
   // what the clamp injects (docs/solid.md "Hourglass control").
