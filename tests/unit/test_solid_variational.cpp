@@ -165,3 +165,20 @@ TEST(SolidVariational, DamagedForceIsTheGradientOfTheDamagedStoredEnergy) {
     EXPECT_LT(err, 1e-6) << law;
   }
 }
+
+TEST(SolidVariational, HourglassFormKeyIsChecked) {
+  Simulation sim(2);
+  addMaterial(sim, "clay", "elastic", "{density: 2000, young_modulus: 1.0e9, poisson_ratio: 0.3}");
+  try {
+    addSolidModule(sim, "{hourglass_form: springy}");
+    ADD_FAILURE() << "an unknown hourglass_form was accepted";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("hourglass_form"), std::string::npos) << what;
+    EXPECT_NE(what.find("springy"), std::string::npos) << what;
+  }
+  Simulation small(2);
+  addMaterial(small, "clay", "elastic",
+              "{density: 2000, young_modulus: 1.0e9, poisson_ratio: 0.3, formulation: small_strain_stress}");
+  EXPECT_THROW(addSolidModule(small, "{hourglass_form: pairwise}"), InputError);
+}
