@@ -201,7 +201,7 @@ TEST(SolidEnergy, ExploreDroplet) {
         }
         return P;
       };
-      double Wf = 0.0, Pf = fluidResidualPower();
+      double Wf = 0.0, Pf = fluidResidualPower(), worstRest = 0.0;
       const double es0 = solidEnergy();
       double W = 0.0, Pprev = couplingPower(), worstSolid = 0.0;
       for (int k = 1; k <= steps; ++k) {
@@ -213,6 +213,7 @@ TEST(SolidEnergy, ExploreDroplet) {
         const double Pf1 = fluidResidualPower();
         Wf += 0.5 * dt * (Pf + Pf1);
         Pf = Pf1;
+        worstRest = std::max(worstRest, std::abs((total() - e0 - Wf) / e0));
         if (!block.empty())
           worstSolid = std::max(worstSolid, std::abs(solidEnergy() - es0 - W) / e0);
         if (k % (steps / 20) != 0) continue;
@@ -226,9 +227,10 @@ TEST(SolidEnergy, ExploreDroplet) {
         std::printf("    integral of the fluid pairs' residual power / E0 %+.3e\n", Wf / e0);
       }
       std::printf("%s cfl %.2f: %d steps to t %.4f, worst drift %.3e; solid: work in %.4e, "
-                  "energy change %.4e, worst |change - work| / E0 %.3e\n",
+                  "energy change %.4e, worst |change - work| / E0 %.3e; worst |drift - integral of "
+                  "the fluid pairs' residual| %.3e (every step)\n",
                   block.empty() ? "two drops" : "block", cfl, steps, sim.time, worst, W,
-                  solidEnergy() - es0, worstSolid);
+                  solidEnergy() - es0, worstSolid, worstRest);
       std::fflush(stdout);
     }
 }
