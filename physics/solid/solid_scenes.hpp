@@ -100,6 +100,29 @@ inline void appendRings(double a, double dx, int rings, std::vector<double>& xy,
   }
 }
 
+/// Spherical shells a + (k + 1/2) dx, k < shells (3D body-fitted layout of a thick sphere):
+/// N_k = round(4 pi r^2 / dx^2) points per shell on a Fibonacci (golden-angle) spiral, which
+/// spaces them ~dx apart with no pole clustering; each holds the shell's volume / N_k.
+inline void appendShells(double a, double dx, int shells, std::vector<double>& xyz,
+                         std::vector<double>& volume) {
+  const double pi = 3.14159265358979323846;
+  const double golden = pi * (3.0 - std::sqrt(5.0));
+  for (int k = 0; k < shells; ++k) {
+    const double r = a + (k + 0.5) * dx;
+    const long N = std::max(8L, std::lround(4.0 * pi * r * r / (dx * dx)));
+    const double v = 4.0 * pi * r * r * dx / static_cast<double>(N);
+    for (long m = 0; m < N; ++m) {
+      const double z = 1.0 - (2.0 * static_cast<double>(m) + 1.0) / static_cast<double>(N);
+      const double rho = std::sqrt(std::max(0.0, 1.0 - z * z));
+      const double phi = golden * static_cast<double>(m);
+      xyz.push_back(r * rho * std::cos(phi));
+      xyz.push_back(r * rho * std::sin(phi));
+      xyz.push_back(r * z);
+      volume.push_back(v);
+    }
+  }
+}
+
 /// Zero crossings (linear interpolation) of a sampled signal; returns crossing times.
 inline std::vector<double> zeroCrossings(const std::vector<double>& t, const std::vector<double>& y) {
   std::vector<double> out;
