@@ -15,6 +15,7 @@
 #include <map>
 #include <memory>
 #include <sstream>
+#include <tuple>
 
 #include <yaml-cpp/yaml.h>
 
@@ -43,14 +44,9 @@ struct Setting {
 std::vector<std::string> splitList(const std::string& s, char sep) { return splitTopLevel(s, sep); }
 
 Setting parseSet(const std::string& text) {
-  const auto eq = text.find('=');
-  if (eq == std::string::npos || eq == 0 || eq + 1 == text.size())
-    throw InputError("--set '" + text + "': expected key.path=v1,v2,... (e.g. --set materials.clay.young_modulus=1e8,2e8)");
   Setting s;
-  s.key = text.substr(0, eq);
-  s.values = splitList(text.substr(eq + 1), ',');
-  for (const auto& v : s.values)
-    if (v.empty()) throw InputError("--set '" + text + "': an empty value in the list");
+  std::tie(s.key, s.values) = parseNamedList(
+      text, "--set", "key.path=v1,v2,... (e.g. --set materials.clay.young_modulus=1e8,2e8)");
   return s;
 }
 

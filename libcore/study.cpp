@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cerrno>
 #include <cstring>
+#include <tuple>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -321,15 +322,23 @@ const std::vector<std::pair<std::string, std::string>>& studyVaryNames() {
   return out;
 }
 
-VaryAxis parseVary(const std::string& text) {
+std::pair<std::string, std::vector<std::string>> parseNamedList(const std::string& text,
+                                                                const std::string& option,
+                                                                const std::string& example) {
   const auto eq = text.find('=');
   if (eq == std::string::npos || eq == 0 || eq + 1 == text.size())
-    throw InputError("--vary '" + text + "': expected NAME=v1,v2,... (e.g. --vary spacing=2e-4,1e-4)");
+    throw InputError(option + " '" + text + "': expected " + example);
+  std::pair<std::string, std::vector<std::string>> out{text.substr(0, eq),
+                                                       splitTopLevel(text.substr(eq + 1), ',')};
+  for (const auto& v : out.second)
+    if (v.empty()) throw InputError(option + " '" + text + "': an empty value in the list");
+  return out;
+}
+
+VaryAxis parseVary(const std::string& text) {
   VaryAxis a;
-  a.name = text.substr(0, eq);
-  a.values = splitTopLevel(text.substr(eq + 1), ',');
-  for (const auto& v : a.values)
-    if (v.empty()) throw InputError("--vary '" + text + "': an empty value in the list");
+  std::tie(a.name, a.values) =
+      parseNamedList(text, "--vary", "NAME=v1,v2,... (e.g. --vary spacing=2e-4,1e-4)");
   if (a.name.find('.') != std::string::npos) return a;  // a scene key path
   std::vector<std::string> names;
   for (const auto& v : varyTable()) {

@@ -19,6 +19,12 @@ namespace poresph {
 
 /// Splits at `sep`, keeping separators inside [..] and {..} (one YAML value: [0, 1]).
 std::vector<std::string> splitTopLevel(const std::string& s, char sep);
+/// A command-line list `NAME=v1,v2,...` (the --vary of `poresph study`, the --set of `poresph
+/// sweep`): the name and the values (split at top-level commas); InputError naming the option
+/// and `example` for a missing name, '=' or value, or an empty value in the list.
+std::pair<std::string, std::vector<std::string>> parseNamedList(const std::string& text,
+                                                                const std::string& option,
+                                                                const std::string& example);
 /// The node at `path` (a.b[2].c; a list element also by its `name`: materials.clay.density),
 /// created where a mapping lacks the key (the scene parser then names an unknown one). Errors
 /// (InputError) start with `what`.
