@@ -1,7 +1,7 @@
 // Validation item 3 of issue 13 at a coarse resolution the default suite affords: the plate with
 // a rigid inclusion of thesis Sec. 4.3 (see damage_plate_case.hpp). `Explore` (skipped unless
 // PORESPH_PLATE=dx,2h,u,ramp,damping,hourglass,law,Yc0 is set; PORESPH_PLATE_BOTTOM,
-// PORESPH_PLATE_DUMP, PORESPH_PLATE_STEPS) is the driver of the studies quoted in docs/damage.md.
+// PORESPH_PLATE_DUMP, PORESPH_PLATE_STEPS, PORESPH_PLATE_THRESHOLD = onset D) is the driver of the studies quoted in docs/damage.md.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -28,6 +28,7 @@ TEST(DamagePlate, Explore) {
   if (const char* d = std::getenv("PORESPH_PLATE_DUMP")) s.dump = d;
   s.clampBottom = std::getenv("PORESPH_PLATE_BOTTOM") != nullptr;
   if (const char* m = std::getenv("PORESPH_PLATE_STEPS")) s.maxSteps = std::atol(m);
+  if (const char* t = std::getenv("PORESPH_PLATE_THRESHOLD")) s.threshold = std::atof(t);
   if (lawName == "none") s.law.clear();
   const PlateResult r = runPlate(s);
   std::printf("dx %g 2h %g u %g ramp %g damp %g hg %g %s: %ld particles %ld steps, onset u = %.2f um at "
