@@ -67,6 +67,9 @@ class Module {
   /// (libcore/phases.hpp). A module that only reads neighbours of another phase (e.g. the fluid
   /// extrapolating its pressure onto a solid) does not own that class.
   virtual std::vector<PairClass> ownedPairs() const { return {}; }
+  /// True when every neighbour loop of this module, as configured, works on a half list
+  /// (NeighbourList::half: each pair of real particles once; scene key `neighbour_list`).
+  virtual bool supportsHalfNeighbourList() const { return false; }
 
   virtual void kinematics(Simulation& sim) {}
   virtual void constitutive(Simulation& sim) {}

@@ -100,7 +100,8 @@ void NeighbourSearch::sortIntoCells(const double* x, Index n, double cellSize) {
 
 template <int D>
 void NeighbourSearch::buildDim(const double* x, Index nReal, Index nTotal, double radius,
-                               NeighbourList& out) {
+                               NeighbourList& out, bool half) {
+  out.half = half;
   // Cells of half the radius: the candidates of a particle fill a box of (radius + cell) half
   // width instead of (2 radius) for cells of one radius; rows are then pruned to the sphere.
   sortIntoCells<D>(x, nTotal, kCellFraction * radius);
@@ -176,6 +177,8 @@ void NeighbourSearch::buildDim(const double* x, Index nReal, Index nTotal, doubl
     const double ox = origin_[0];
     for (Index i = i0; i < i1; ++i) {
       const double* xi = x + i * D;
+      // Smallest index kept, minus one: j > i for a half list, every j != i otherwise.
+      const Index jFloor = half ? i : Index(-1);
       int zlo = 0, zhi = 0, ylo = 0, yhi = 0;
       if (D > 2) {
         zlo = cellIndex(xi[D - 1] - radius, D - 1), zhi = cellIndex(xi[D - 1] + radius, D - 1);
@@ -241,7 +244,7 @@ void NeighbourSearch::buildDim(const double* x, Index nReal, Index nTotal, doubl
             }
             const Index j = sorted[s];
             dst[used] = static_cast<std::uint32_t>(j);
-            used += static_cast<std::size_t>((r2 < r2max) & (j != i));
+            used += static_cast<std::size_t>((r2 < r2max) & (j != i) & (j > jFloor));
           }
         }
       }
@@ -301,7 +304,7 @@ void NeighbourSearch::buildDim(const double* x, Index nReal, Index nTotal, doubl
 }
 
 void NeighbourSearch::build(const double* x, int dim, Index nReal, Index nTotal, double radius,
-                            NeighbourList& out) {
+                            NeighbourList& out, bool half) {
   if (!(radius > 0.0) || !(radius * radius > 0.0) || !std::isfinite(radius * radius))
     throw std::logic_error("neighbour search: radius must be positive and finite (and its square "
                            "a normal double), got " + std::to_string(radius));
@@ -309,7 +312,7 @@ void NeighbourSearch::build(const double* x, int dim, Index nReal, Index nTotal,
     throw std::logic_error("neighbour search: need 0 <= nReal <= nTotal");
   if (nTotal > static_cast<Index>(std::numeric_limits<std::uint32_t>::max()))
     throw std::logic_error("neighbour search: more than 2^32 particles in one store");
-  dispatchDimension(dim, [&](auto d) { buildDim<decltype(d)::value>(x, nReal, nTotal, radius, out); });
+  dispatchDimension(dim, [&](auto d) { buildDim<decltype(d)::value>(x, nReal, nTotal, radius, out, half); });
 }
 
 void NeighbourSearch::cellOrder(const double* x, int dim, Index n, double cellSize,
@@ -353,10 +356,10 @@ bool VerletNeighbours::valid(const double* x, int dim, Index nReal, Index nTotal
 }
 
 void VerletNeighbours::rebuild(NeighbourSearch& search, const double* x, int dim, Index nReal,
-                               Index nTotal, double radius, double skin) {
+                               Index nTotal, double radius, double skin, bool half) {
   if (!(skin >= 0.0) || !std::isfinite(skin))
     throw std::logic_error("Verlet list: skin must be >= 0 and finite, got " + std::to_string(skin));
-  search.build(x, dim, nReal, nTotal, radius + skin, cand_);
+  search.build(x, dim, nReal, nTotal, radius + skin, cand_, half);
   x0_.assign(x, x + static_cast<size_t>(nReal) * static_cast<size_t>(dim));
   nReal_ = nReal;
   nTotal_ = nTotal;
@@ -371,6 +374,7 @@ void VerletNeighbours::filterDim(const double* x, double radius, NeighbourList& 
   const Index n = cand_.realCount();
   const double r2max = radius * radius;
   const std::size_t total = cand_.index.size();
+  out.half = cand_.half;
   // The exact list is a subset of the candidates: room for all of them (reserved once).
   if (out.index.capacity() < total) out.index.reserve(total + total / 16);
   out.index.resize(total);

@@ -8,6 +8,12 @@
 // the same search will serve MPI halos. Lists are stored in compressed rows (offset, index),
 // self excluded, and are ordered the same whatever the thread count. Memory is kept between
 // builds, so that a time loop does not allocate once the lists reached their working size.
+//
+// Half lists (`half` = true, scene key `neighbour_list: half`, docs/performance.md): each pair
+// of real particles is stored once, in the row of the smaller index (j > i), for loops that
+// evaluate a pair once and update both particles (symmetric evaluation, libcore/pair_scatter.hpp);
+// a pair of a real particle and a ghost stays in the real particle's row as in the full list
+// (ghosts have no row; the mirrored pair sits in the row of the ghost's source).
 #include <cstdint>
 #include <vector>
 
@@ -18,6 +24,7 @@ namespace poresph {
 struct NeighbourList {
   std::vector<std::int64_t> offset;   ///< size nReal + 1
   std::vector<std::uint32_t> index;   ///< neighbours of i: index[offset[i] .. offset[i+1])
+  bool half = false;  ///< only j > i in row i (real-real pairs once; see above)
   Index realCount() const { return offset.empty() ? 0 : static_cast<Index>(offset.size()) - 1; }
   std::int64_t pairCount() const { return offset.empty() ? 0 : offset.back(); }
   std::size_t bytes() const {
@@ -28,9 +35,9 @@ struct NeighbourList {
 class NeighbourSearch {
  public:
   /// Neighbours within `radius` (strictly closer) of each real particle.
-  /// x: positions, dim components per particle.
+  /// x: positions, dim components per particle. `half`: keep only j > i (a half list).
   void build(const double* x, int dim, Index nReal, Index nTotal, double radius,
-             NeighbourList& out);
+             NeighbourList& out, bool half = false);
   /// Permutation that sorts particles [0, n) by cell (cell size `cellSize`), x fastest: feed it
   /// to ParticleStore::permute for cache locality.
   void cellOrder(const double* x, int dim, Index n, double cellSize, std::vector<Index>& newToOld);
@@ -44,7 +51,8 @@ class NeighbourSearch {
 
  private:
   template <int D>
-  void buildDim(const double* x, Index nReal, Index nTotal, double radius, NeighbourList& out);
+  void buildDim(const double* x, Index nReal, Index nTotal, double radius, NeighbourList& out,
+                bool half);
   template <int D>
   void sortIntoCells(const double* x, Index n, double cellSize);
 
@@ -86,10 +94,12 @@ class VerletNeighbours {
   /// below skin/2.
   bool valid(const double* x, int dim, Index nReal, Index nTotal, double radius,
              double skin) const;
-  /// Rebuilds the candidates with `search` (radius + skin) and remembers the positions.
+  /// Rebuilds the candidates with `search` (radius + skin) and remembers the positions; `half`:
+  /// half candidates (j > i), whose filtered list is then a half list too.
   void rebuild(NeighbourSearch& search, const double* x, int dim, Index nReal, Index nTotal,
-               double radius, double skin);
-  /// The exact list: the candidates closer than `radius` (strictly), in candidate order.
+               double radius, double skin, bool half = false);
+  /// The exact list: the candidates closer than `radius` (strictly), in candidate order (a
+  /// half list when the candidates are).
   void filter(const double* x, int dim, double radius, NeighbourList& out);
   /// Largest displacement of a real particle since the last rebuild (infinite before the first).
   double maxDisplacement(const double* x, int dim, Index nReal) const;

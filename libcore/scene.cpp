@@ -167,6 +167,13 @@ Scene buildScene(const YAML::Node& root, const std::string& file, const SceneOpt
     sim.neighbourSkin = top.real("neighbour_skin", Range::closed(0.0, 2.0)) * sim.spacing;
     res["neighbour_skin"] = num(sim.neighbourSkin / sim.spacing);
   }
+  // Full or half neighbour list (Simulation::chooseNeighbourList once the modules are known).
+  const std::string listChoice = top.choice("neighbour_list", "full", {"full", "half", "auto"});
+  sim.neighbourListChoice = listChoice == "half"   ? Simulation::NeighbourListChoice::Half
+                            : listChoice == "auto" ? Simulation::NeighbourListChoice::Auto
+                                                   : Simulation::NeighbourListChoice::Full;
+  if (top.has("neighbour_list")) res["neighbour_list"] = listChoice;
+  const std::string listWhere = top.where("neighbour_list");
 
   // ---- time ----
   scene.integrator = top.choice("integrator", "leapfrog", integratorNames());
@@ -354,6 +361,11 @@ Scene buildScene(const YAML::Node& root, const std::string& file, const SceneOpt
     if (section) section->finish();
     sim.addModule(std::move(m));
   }
+  try {
+    sim.chooseNeighbourList();
+  } catch (const InputError& e) {
+    throw InputError(listWhere + ": " + e.what());
+  }
   for (const auto& m : sim.materials) {
     YAML::Node e = YAML::Clone(root["materials"][static_cast<size_t>(m.id)]);
     res["materials"].push_back(e);
@@ -511,6 +523,7 @@ void buildParticles(Scene& scene) {
   try {
     addPairOwners(sim);
     sim.checkPairOwners();
+    sim.chooseNeighbourList();  // again: a pair owner added here may need the full list
   } catch (const InputError& e) {
     throw InputError(scene.geometryWhere + ": " + e.what());
   }

@@ -125,6 +125,7 @@ void Simulation::updateNeighbours() {
   // skin / 2 of it at the search, so its image exists; two images closer than support now were
   // closer than support + skin then, so the pair is among the candidates.
   verletActive_ = neighbourSkin > 0.0;
+  if (verletActive_ && verlet.candidates().half != halfNeighbourList) verlet.invalidate();
   if (verletActive_ && verlet.valid(store.data(store.position()), dimension(), store.realCount(),
                                     store.size(), support, neighbourSkin)) {
     halo.refresh(store);
@@ -141,12 +142,26 @@ void Simulation::updateNeighbours() {
   halo.build(store, domain, verletActive_ ? support + neighbourSkin : support);
   if (verletActive_) {
     verlet.rebuild(search, store.data(store.position()), dimension(), store.realCount(),
-                   store.size(), support, neighbourSkin);
+                   store.size(), support, neighbourSkin, halfNeighbourList);
     verlet.filter(store.data(store.position()), dimension(), support, neighbours);
     return;
   }
   search.build(store.data(store.position()), dimension(), store.realCount(), store.size(), support,
-               neighbours);
+               neighbours, halfNeighbourList);
+}
+
+void Simulation::chooseNeighbourList() {
+  halfNeighbourList = false;
+  if (neighbourListChoice == NeighbourListChoice::Full) return;
+  for (const auto& m : modules) {
+    if (m->supportsHalfNeighbourList()) continue;
+    if (neighbourListChoice == NeighbourListChoice::Auto) return;
+    throw InputError("neighbour_list: half: module '" + m->name() +
+                     "' needs the full neighbour list as configured (a half list serves only "
+                     "the modules whose pair loops are symmetric: docs/performance.md); use "
+                     "neighbour_list: full or auto");
+  }
+  halfNeighbourList = true;
 }
 
 void Simulation::evaluateRates() {

@@ -75,6 +75,17 @@ class Simulation {
   /// list is filtered from those candidates (docs/performance.md).
   double neighbourSkin = 0.0;
   VerletNeighbours verlet;
+  /// Scene key `neighbour_list`: `full` (every pair in both rows), `half` (each pair of real
+  /// particles once, NeighbourList::half, for the modules' symmetric pair loops; refused when a
+  /// module needs the full list) or `auto` (half when every module supports it).
+  enum class NeighbourListChoice { Full, Half, Auto };
+  NeighbourListChoice neighbourListChoice = NeighbourListChoice::Full;
+  /// True when `neighbours` (and the Verlet candidates) are half lists; set by
+  /// chooseNeighbourList() from the choice and the modules (Module::supportsHalfNeighbourList).
+  bool halfNeighbourList = false;
+  /// Sets halfNeighbourList. With the choice `half`, throws InputError naming the first module
+  /// that needs the full list (as configured).
+  void chooseNeighbourList();
   /// The candidates of the last search: the Verlet candidates (radius support + skin) when the
   /// skin is active, the exact list otherwise. A superset of every neighbour list until
   /// neighbourBuilds() changes (then the store may also have been reordered).

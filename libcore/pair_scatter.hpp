@@ -1,0 +1,142 @@
+#pragma once
+// Race-free symmetric pair evaluation over a half neighbour list (NeighbourList::half, scene key
+// `neighbour_list: half`, docs/performance.md "Half neighbour list").
+//
+// A half list holds each pair of real particles once, in the row of the smaller index, so a
+// loop over the rows evaluates the pair once and adds its contribution to both particles: to
+// the row's particle i (the thread's own) and to the neighbour j > i, which another thread's
+// rows may also reach. PairScatter makes that scatter race-free without atomics or locks:
+//  - the rows are split into one contiguous block per thread, balanced by list entries;
+//  - a thread adds to a particle j of its own block directly (no other thread writes there:
+//    the other threads' rows are either all below the block, and reach it only through their
+//    spill buffers, or all above it, and never write below their own rows since j > i);
+//  - a particle j beyond its block goes to the thread's spill buffer, which covers the rows
+//    from the end of its block to the largest real neighbour index its rows reach;
+//  - after a barrier each thread adds the spills of the threads before it into its own rows,
+//    in thread order (the result depends on the thread count only through that order).
+// With the store in cell order (Simulation::reorderEvery) a spill covers about a slab of the
+// support's thickness along the slowest cell axis. Buffers grow only when a layout needs more
+// than they hold (counted by allocations()): a steady time loop does not allocate.
+// A ghost neighbour (index >= nReal) gets nothing: its pair is also in the row of its source.
+#include <omp.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <cstring>
+#include <vector>
+
+#include "libcore/neighbour_search.hpp"
+#include "libcore/types.hpp"
+
+namespace poresph {
+
+class PairScatter {
+ public:
+  /// Outside a parallel region: the blocks of omp_get_max_threads() threads over the rows
+  /// [0, nReal) of `nl` and the spill of each, for `width` doubles per particle.
+  void prepare(const NeighbourList& nl, Index nReal, int width) {
+    nt_ = std::max(1, omp_get_max_threads());
+    w_ = width;
+    n_ = nReal;
+    block_.resize(static_cast<size_t>(nt_) + 1);
+    spillEnd_.resize(static_cast<size_t>(nt_));
+    if (spill_.size() < static_cast<size_t>(nt_)) spill_.resize(static_cast<size_t>(nt_));
+    const std::int64_t* off = nl.offset.data();
+    const std::int64_t total = nReal > 0 ? off[nReal] : 0;
+    block_[0] = 0;
+    for (int t = 1; t < nt_; ++t) {
+      const std::int64_t target = total * t / nt_;
+      block_[static_cast<size_t>(t)] = nReal > 0
+          ? static_cast<Index>(std::lower_bound(off, off + nReal + 1, target) - off)
+          : 0;
+      block_[static_cast<size_t>(t)] = std::max(block_[static_cast<size_t>(t)], block_[static_cast<size_t>(t) - 1]);
+    }
+    block_[static_cast<size_t>(nt_)] = nReal;
+    const std::uint32_t* idx = nl.index.data();
+    const Index n = nReal;
+#pragma omp parallel for schedule(static, 1) num_threads(nt_)
+    for (int t = 0; t < nt_; ++t) {
+      const Index b1 = block_[static_cast<size_t>(t) + 1];
+      Index hi = b1;
+      const std::int64_t k0 = off[block_[static_cast<size_t>(t)]], k1 = off[b1];
+      for (std::int64_t k = k0; k < k1; ++k) {
+        const Index j = static_cast<Index>(idx[k]);
+        hi = (j < n && j >= hi) ? j + 1 : hi;
+      }
+      spillEnd_[static_cast<size_t>(t)] = hi;
+    }
+    for (int t = 0; t < nt_; ++t) {
+      auto& s = spill_[static_cast<size_t>(t)];
+      const std::size_t need = static_cast<std::size_t>(spillEnd_[static_cast<size_t>(t)] -
+                                                        block_[static_cast<size_t>(t) + 1]) *
+                               static_cast<std::size_t>(w_);
+      if (need > s.capacity()) {
+        s.reserve(need + need / 8 + 64);
+        ++allocations_;
+      }
+      s.resize(need);
+    }
+  }
+  /// Threads of the layout: run the loop with `num_threads(threads())`; a team of another size
+  /// must take the blocks t = thread, thread + team, ... (forBlocks does).
+  int threads() const { return nt_; }
+  Index begin(int t) const { return block_[static_cast<size_t>(t)]; }
+  Index end(int t) const { return block_[static_cast<size_t>(t) + 1]; }
+  /// Calls f(t) for every block t handled by the calling thread of the current team.
+  template <class F>
+  void forBlocks(F&& f) const {
+    const int team = omp_get_num_threads(), me = omp_get_thread_num();
+    for (int t = me; t < nt_; t += team) f(t);
+  }
+  /// Zeroes the rows of block t in `own` (width doubles per particle) and the spill of t.
+  void zero(int t, double* own) {
+    const Index b0 = begin(t), b1 = end(t);
+    if (b1 > b0)
+      std::memset(own + b0 * w_, 0, sizeof(double) * static_cast<size_t>((b1 - b0) * w_));
+    auto& s = spill_[static_cast<size_t>(t)];
+    if (!s.empty()) std::memset(s.data(), 0, sizeof(double) * s.size());
+  }
+  /// Where block t's rows add to particle j (real, j >= begin(t)): `own` inside the block, the
+  /// spill beyond it.
+  double* at(int t, double* own, Index j) {
+    const Index b1 = block_[static_cast<size_t>(t) + 1];
+    return j < b1 ? own + j * w_ : spill_[static_cast<size_t>(t)].data() + (j - b1) * w_;
+  }
+  /// After a barrier that follows every block's loop: adds the spills of the blocks before t
+  /// that reach block t's rows into `own`.
+  void reduce(int t, double* own) const {
+    const Index b0 = begin(t), b1 = end(t);
+    for (int u = 0; u < t; ++u) {
+      const Index su = block_[static_cast<size_t>(u) + 1], eu = spillEnd_[static_cast<size_t>(u)];
+      const Index lo = std::max(b0, su), hi = std::min(b1, eu);
+      if (hi <= lo) continue;
+      const double* s = spill_[static_cast<size_t>(u)].data() + (lo - su) * w_;
+      double* o = own + lo * w_;
+      const std::size_t len = static_cast<std::size_t>((hi - lo) * w_);
+      for (std::size_t q = 0; q < len; ++q) o[q] += s[q];
+    }
+  }
+  /// Bytes held by the spill buffers.
+  std::size_t bytes() const {
+    std::size_t b = (block_.capacity() + spillEnd_.capacity()) * sizeof(Index);
+    for (const auto& s : spill_) b += s.capacity() * sizeof(double);
+    return b;
+  }
+  /// Number of times a spill buffer grew (a steady loop stops allocating).
+  std::int64_t allocations() const { return allocations_; }
+  /// Largest spill, in particles, of the last layout (diagnostics).
+  Index largestSpill() const {
+    Index m = 0;
+    for (int t = 0; t < nt_; ++t) m = std::max(m, spillEnd_[static_cast<size_t>(t)] - end(t));
+    return m;
+  }
+
+ private:
+  int nt_ = 0, w_ = 0;
+  Index n_ = 0;
+  std::vector<Index> block_, spillEnd_;
+  std::vector<std::vector<double>> spill_;
+  std::int64_t allocations_ = 0;
+};
+
+}  // namespace poresph
