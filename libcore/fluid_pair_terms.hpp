@@ -11,7 +11,9 @@
 //   viscous      mu_ab V_b F / rho_a v_ab, mu_ab harmonic or arithmetic (Eq. 5.4), times the
 //                lattice normalisation factor of the pair (see FluidPairSettings)
 //   artificial   -m_b Pi_ab grad W, Pi_ab = -alpha c_ab mu_ab / rho_ab   (Eq. 2.64, linear term)
-//   continuity   V_b (v_a - v_b) . grad W                                (Eq. 5.1a)
+//   continuity   V_b (v_a - v_b) . grad W                                (Eq. 5.1a, "volume")
+//                or (m_b / rho_a) (v_a - v_b) . grad W  ("mass": rho_a times the sum is
+//                sum_b m_b v_ab . grad W, the energy-consistent partner of Eq. 5.2b)
 // grad W = F(r) r with r = x_a - x_b (BoundaryModel: how p_b and the continuity velocity are
 // taken). The force on a is m_a times the acceleration returned;
 // the coupling module applies minus that force to b.
@@ -35,6 +37,27 @@ namespace poresph {
 ///    pair sum of grad W over a flat interface is A / 2).
 enum class BoundaryModel { Extrapolated, Mirror };
 
+/// Which continuity pair term goes with the pressure term (scene key `fluid: {continuity_form}`):
+///  - Volume (Eq. 5.1a, the default): drho_a/dt = rho_a sum_b V_b v_ab . grad W_ab.
+///  - Mass: drho_a/dt = sum_b m_b v_ab . grad W_ab. With the momentum form 5.2b the power of the
+///    pressure forces is then exactly minus the rate of the compression energy sum_a m_a e(rho_a)
+///    (de/drho = p/rho^2), so an inviscid fluid conserves kinetic + compression energy up to the
+///    time integrator's error. With 5.1a the pair leaves the power
+///    1/2 sum_ab m_a m_b (v_ab . grad W)(1/rho_b - 1/rho_a)(p_a/rho_a - p_b/rho_b) (docs/fluid.md,
+///    "Energy-consistent continuity"). Across a density jump (gas-water) the mass form sums the
+///    heavy side's masses into the light side's density rate: use it for one-fluid scenes.
+enum class ContinuityForm { Volume, Mass };
+
+/// The continuity contribution of neighbour b to particle a, as a divergence: rho_a times the
+/// sum over b of it is drho_a/dt. vabGradW = (v_a - v_b) . grad_a W_ab; V_b = m_b / rho_b.
+/// One expression for every pair class that runs continuity (fluid-fluid, fluid-wall,
+/// fluid-solid, fluid-rigid).
+inline double continuityTerm(ContinuityForm form, double rhoa, double mb, double Vb,
+                             double vabGradW) {
+  return form == ContinuityForm::Mass ? (mb / rhoa) * vabGradW  // sum m_b v_ab . grad W / rho_a
+                                      : Vb * vabGradW;           // Eq. 5.1a
+}
+
 struct FluidPairSettings {
   bool huAdams = false;       ///< Hu & Adams (2006) pressure form instead of Eq. 5.2b
   bool harmonicMean = true;   ///< harmonic mean of the viscosities (Eq. 5.4)
@@ -45,6 +68,8 @@ struct FluidPairSettings {
   /// force on any particle arrangement (with Eq. 5.2b or Hu-Adams a background pressure acting
   /// on a disordered neighbourhood is a spurious elastic stiffness). 0 = off (the default).
   double pressureOffset = 0.0;
+  /// Continuity pair term (ContinuityForm above); the fluid module's `continuity_form`.
+  ContinuityForm continuity = ContinuityForm::Volume;
 };
 
 /// The fluid particle a of the pair.
@@ -70,7 +95,7 @@ struct BoundaryPairSide {
 template <int D>
 struct FluidPairResult {
   Vec<D> pressure = Vec<D>::Zero(), viscous = Vec<D>::Zero(), artificial = Vec<D>::Zero();
-  double divergence = 0.0;  ///< V_b (v_a - v_b) . grad W
+  double divergence = 0.0;  ///< continuityTerm: rho_a times it is the density rate of a from b
 };
 
 /// Pair terms of fluid a with boundary b; r = x_a - x_b, F = kernel F(|r|) (grad W = F r).
@@ -100,8 +125,11 @@ FluidPairResult<D> fluidBoundaryPair(const Vec<D>& r, double F, const FluidPairS
     out.pressure = -(mb * (pa0 / (a.rho * a.rho) + pb0 / (rhob * rhob))) * gradW;  // 5.2b
     out.viscous = (muBar * b.volume * F / a.rho) * vab;                            // 5.4
   }
-  // 5.1a with the boundary's own velocity (Extrapolated) or the mirrored one (Mirror).
-  out.divergence = (mirror ? 2.0 : 1.0) * b.volume * (a.v - b.v).dot(gradW);
+  // Continuity (5.1a or the mass form, continuityTerm) with the boundary's own velocity
+  // (Extrapolated) or the mirrored one (Mirror: rho_b = rho_a, so both forms coincide). The
+  // boundary's mass in the mass form is m_b = rho_b V_b, as in the pressure term.
+  out.divergence = (mirror ? 2.0 : 1.0) *
+                   continuityTerm(s.continuity, a.rho, mb, b.volume, (a.v - b.v).dot(gradW));
   if (s.artificialViscosity > 0.0) {
     const double Pi = artificialViscosityPi<D>(a.v - b.v, r, s.h, s.artificialViscosity, 0.0,
                                             fa.soundSpeed, fa.soundSpeed, a.rho, rhob);
@@ -157,7 +185,8 @@ struct FluidBoundaryForce {
   }
 
   /// The force on fluid particle a from all its neighbours of phase `boundaryPhase`, and their
-  /// continuity sum (Eq. 5.1a: add rho_a times it to the density rate) in `divergence`.
+  /// continuity sum (Eq. 5.1a or the mass form: add rho_a times it to the density rate) in
+  /// `divergence`.
   template <class NeighbourList>
   Vec<D> onFluid(Index a, const NeighbourList& nl, const std::int32_t* phase,
                  std::int32_t boundaryPhase, double& divergence) const {

@@ -95,6 +95,11 @@ void FluidModule::configure(Simulation& sim, const std::vector<const Material*>&
                             "hu_adams"
                         ? PressureForm::HuAdams
                         : PressureForm::Symmetric;
+    // Continuity pair term (libcore continuityTerm): Eq. 5.1a or the mass form, the
+    // energy-consistent partner of 5.2b (docs/fluid.md "Energy-consistent continuity").
+    continuityForm_ = s.choice("continuity_form", "volume", {"volume", "mass"}) == "mass"
+                          ? ContinuityForm::Mass
+                          : ContinuityForm::Volume;
     harmonicMean_ =
         s.choice("viscosity_mean", "harmonic", {"harmonic", "arithmetic"}) == "harmonic";
     gamma_ = s.real("surface_tension", 0.0, Range::nonNegative());
@@ -147,7 +152,8 @@ void FluidModule::configure(Simulation& sim, const std::vector<const Material*>&
                   "transport velocity)");
   sim.fluidPairSettings = FluidPairSettings{pressureForm_ == PressureForm::HuAdams, harmonicMean_,
                                             artificialViscosity_, sim.kernel.h(),
-                                            pressureReference_ ? backgroundPressure_ : 0.0};
+                                            pressureReference_ ? backgroundPressure_ : 0.0,
+                                            continuityForm_};
 
   // fields (produce = register-if-absent)
   auto& st = sim.store;
@@ -883,7 +889,7 @@ void FluidModule::forcesD(Simulation& sim) {
         aP -= (mb * (pRho2[i] + pRho2[j])) * gradW;  // Eq. 5.2b
         if (muBar != 0.0) aV += (fab * muBar * Vb * F / rhoa) * vab;  // Eq. 5.4 (0 if inviscid)
       }
-      divv += Vb * (va - vb).dot(gradW);  // Eq. 5.1a
+      divv += continuityTerm(continuityForm_, rhoa, mb, Vb, vab.dot(gradW));  // Eq. 5.1a / mass form
       if (artificialViscosity_ > 0.0) {
         const double cb = (idb >= 0 && idb < nm) ? md[idb].soundSpeed : ma.soundSpeed;
         const double Pi = artificialViscosityPi<D>(vab, r, h, artificialViscosity_, 0.0,

@@ -23,11 +23,12 @@
 // Stages: kinematics = density summation (option), colour gradient (5.7), wetting normal and
 // curvature (5.8) on interface particles only; constitutive = EOS (1.4 / Tait) and wall pressure/velocity
 // extrapolation (extended summation with a hydrostatic wall pressure); forces = continuity
-// (5.1a), pressure gradient (5.2b), harmonic-mean viscosity (5.4), body forces, CSF surface
+// (5.1a, or the mass form sum m_b v_ab . grad W with `continuity_form: mass`), pressure gradient (5.2b), harmonic-mean viscosity (5.4), body forces, CSF surface
 // tension (1.9), all in gather form.
 #include <string>
 #include <vector>
 
+#include "libcore/fluid_pair_terms.hpp"
 #include "libcore/fluid_properties.hpp"
 #include "libcore/module.hpp"
 #include "libcore/particle_store.hpp"
@@ -119,6 +120,7 @@ class FluidModule : public Module {
   bool summation_ = false;
   PressureForm pressureForm_ = PressureForm::Symmetric;
   bool harmonicMean_ = true;
+  ContinuityForm continuityForm_ = ContinuityForm::Volume;  // continuity_form (Eq. 5.1a / mass)
   double gamma_ = 0.0;              // surface tension coefficient (N/m)
   bool densityWeightedCsf_ = true;  // CSF weighting 2 rho_a / (rho_a + rho_b)
   bool balancedCsf_ = false;        // surface_tension_form: balanced (surface_tension.hpp)

@@ -496,3 +496,71 @@ TEST(FluidBackgroundPressure, ReferenceRemovesTheUniformPressureForceTransportVe
   Simulation sim{2};
   EXPECT_THROW(uniformPressureLattice(sim, "{transport_velocity: true}", 0.0), InputError);
 }
+
+// Continuity form (fluid key `continuity_form`, libcore continuityTerm, docs/fluid.md
+// "Energy-consistent continuity"). An inviscid periodic fluid, disordered positions, densities
+// and velocities: with the mass form sum_b m_b v_ab . grad W the power of the pressure forces
+// (Eq. 5.2b) is exactly minus the rate of the compression energy sum_a m_a e(rho_a)
+// (de/drho = p/rho^2), i.e. sum_a m_a (v_a . a_a + p_a/rho_a^2 drho_a/dt) = 0 to round-off; with
+// Eq. 5.1a it is not (the residual 1/2 sum m_a m_b (v_ab . grad W)(1/rho_b - 1/rho_a)
+// (p_a/rho_a - p_b/rho_b)). A misspelt value is refused, naming key and value.
+TEST(FluidContinuity, MassFormConservesEnergyPairwiseVolumeFormDoesNot) {
+  double relative[2] = {0.0, 0.0};
+  const char* forms[2] = {"volume", "mass"};
+  for (int f = 0; f < 2; ++f) {
+    const double dx = 1e-3, L = 12 * dx;
+    Simulation sim{2};
+    sim.spacing = dx;
+    sim.kernel = Kernel(KernelType::WendlandC2, 2, 1.3 * dx);
+    sim.domain.lo = {0, 0, 0};
+    sim.domain.hi = {L, L, 0};
+    sim.domain.periodic = {true, true, false};
+    fs::addMaterial(sim, "water", "fluid",
+                    "{density: 1000, sound_speed: 10, viscosity: 0, background_pressure: 20}");
+    FluidModule* fluid =
+        fs::addFluidModule(sim, std::string("{continuity_form: ") + forms[f] + "}");
+    fs::addLattice(sim, {0, 0}, {L, L}, 0);
+    fluid->initialise(sim);
+    auto& st = sim.store;
+    const Index n = st.realCount();
+    double* x = st.data(st.position());
+    double* v = st.data(st.velocity());
+    double* rho = st.data(st.density());
+    std::srand(7);
+    auto noise = [] { return 2.0 * std::rand() / static_cast<double>(RAND_MAX) - 1.0; };
+    for (Index i = 0; i < n; ++i) {
+      for (int a = 0; a < 2; ++a) {
+        x[2 * i + a] = std::fmod(x[2 * i + a] + 0.15 * dx * noise() + L, L);
+        v[2 * i + a] = 0.1 * noise();
+      }
+      rho[i] = 1000.0 * (1.0 + 0.02 * noise());
+    }
+    sim.evaluateRates();
+    const double* m = st.data(st.mass());
+    const double* acc = st.data(sim.acceleration);
+    const double* drho = st.data(fluid->densityRate);
+    const double* p = st.data(fluid->pressure);
+    v = st.data(st.velocity());
+    rho = st.data(st.density());
+    double kinetic = 0.0, compression = 0.0;
+    for (Index i = 0; i < n; ++i) {
+      kinetic += m[i] * (v[2 * i] * acc[2 * i] + v[2 * i + 1] * acc[2 * i + 1]);
+      compression += m[i] * p[i] / (rho[i] * rho[i]) * drho[i];
+    }
+    relative[f] = std::abs(kinetic + compression) / std::abs(kinetic);
+    std::printf("  %s: kinetic power %.6e W, compression power %.6e W, relative residual %.2e\n",
+                forms[f], kinetic, compression, relative[f]);
+  }
+  EXPECT_LT(relative[1], 1e-10);  // mass form: round-off
+  EXPECT_GT(relative[0], 1e-4);   // Eq. 5.1a: the residual power
+  Simulation bad(2);
+  fs::addMaterial(bad, "water", "fluid", "{density: 1000, sound_speed: 5, viscosity: 1.0e-3}");
+  try {
+    fs::addFluidModule(bad, "{continuity_form: masss}");
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    const std::string w = e.what();
+    EXPECT_NE(w.find("continuity_form"), std::string::npos) << w;
+    EXPECT_NE(w.find("masss"), std::string::npos) << w;
+  }
+}
