@@ -411,7 +411,10 @@ void FluidModule::kinematicsD(Simulation& sim) {
 
   // Density summation (option; number-density form rho_a = m_a sum_b W_ab, Hu & Adams, so that
   // it holds across a density jump; boundary particles count as full neighbours).
-  if (summation_) {
+  if (summation_ && nl.half) {
+    densitySummationHalf<D>(sim);  // fluid_half.cpp
+    st.refreshGhosts(st.density());
+  } else if (summation_) {
     const double w0 = W.value(0.0);
 #pragma omp parallel for schedule(static)
     for (Index i = 0; i < n; ++i) {
@@ -621,10 +624,11 @@ void FluidModule::constitutiveD(Simulation& sim) {
     wetCount_ = st.size();
     const auto& cl = sim.neighbourCandidates();
     const Index* ghostSource = st.ghostSources().data();
+    if (cl.half) wetFlagsHalf<D>(sim);  // fluid_half.cpp
 #pragma omp parallel for schedule(static)
-    for (Index i = 0; i < n; ++i) wet[i] = 0;
+    for (Index i = 0; i < (cl.half ? 0 : n); ++i) wet[i] = 0;
 #pragma omp parallel for schedule(static)
-    for (Index i = 0; i < n; ++i) {
+    for (Index i = 0; i < (cl.half ? 0 : n); ++i) {
       if (ph[i] != kPhaseFluid) continue;
       for (auto k = cl.offset[i]; k < cl.offset[i + 1]; ++k) {
         const Index j = cl.index[static_cast<size_t>(k)];
@@ -635,8 +639,9 @@ void FluidModule::constitutiveD(Simulation& sim) {
       }
     }
   }
+  if (nl.half) wallExtrapolationHalf<D>(sim);  // fluid_half.cpp
 #pragma omp parallel for schedule(dynamic, 512)
-  for (Index i = 0; i < n; ++i) {
+  for (Index i = 0; i < (nl.half ? 0 : n); ++i) {
     if (ph[i] == kPhaseFluid) continue;
     if (!wet[i]) {
       p[i] = 0.0;
@@ -732,8 +737,9 @@ void FluidModule::forcesD(Simulation& sim) {
   // with the same factors.
   if (normaliseViscosity_ && !viscousFactorsReady_) {
     double* factor = st.data(viscousFactor);
+    if (nl.half) viscousFactorsHalf<D>(sim);  // fluid_half.cpp
 #pragma omp parallel for schedule(static)
-    for (Index i = 0; i < n; ++i) {
+    for (Index i = 0; i < (nl.half ? 0 : n); ++i) {
       if (ph[i] != kPhaseFluid) {
         factor[i] = 1.0;
         continue;
@@ -781,7 +787,8 @@ void FluidModule::forcesD(Simulation& sim) {
   const double* vol = volW;
   const double* pRho2 = pRho2W;
   const double* wallRho = wallRhoW;
-  W.withFixedType<D>([&](const auto K) {
+  if (nl.half) forceLoopHalf<D>(sim, uShift, wallRho);  // fluid_half.cpp
+  if (!nl.half) W.withFixedType<D>([&](const auto K) {
 #pragma omp parallel for schedule(dynamic, 256)
   for (Index i = 0; i < n; ++i) {
     if (nextFactor) nextFactor[i] = 1.0;

@@ -31,6 +31,7 @@
 #include "libcore/fluid_pair_terms.hpp"
 #include "libcore/fluid_properties.hpp"
 #include "libcore/module.hpp"
+#include "libcore/pair_scatter.hpp"
 #include "libcore/particle_store.hpp"
 #include "libcore/types.hpp"
 
@@ -73,6 +74,11 @@ class FluidModule : public Module {
   std::vector<PairClass> ownedPairs() const override {
     return {PairClass(kPhaseFluid, kPhaseFluid), PairClass(kPhaseFluid, kPhaseWall)};
   }
+  /// Every loop has a symmetric form for a half list (fluid_half.cpp) except the surface
+  /// tension's (colour gradient, curvature, CSF), which needs the full list.
+  bool supportsHalfNeighbourList() const override { return gamma_ == 0.0; }
+  /// Blocks and spill buffers of the symmetric loops (their allocations, for tests).
+  const PairScatter& pairScatter() const { return scatter_; }
 
   // ---- read-only access for tests and diagnostics ----
   const MaterialData& materialData(int id) const { return mat_.at(static_cast<size_t>(id)); }
@@ -108,6 +114,15 @@ class FluidModule : public Module {
   template <int D> void kinematicsD(Simulation& sim);
   template <int D> void constitutiveD(Simulation& sim);
   template <int D> void forcesD(Simulation& sim);
+  // The same sums on a half neighbour list, each pair evaluated once and added to both
+  // particles (fluid_half.cpp, libcore/pair_scatter.hpp).
+  template <int D> void wetFlagsHalf(Simulation& sim);
+  template <int D> void wallExtrapolationHalf(Simulation& sim);
+  template <int D> void densitySummationHalf(Simulation& sim);
+  template <int D> void viscousFactorsHalf(Simulation& sim);
+  template <int D> void forceLoopHalf(Simulation& sim, double uShift, const double* wallRho);
+  PairScatter scatter_;            // blocks and spill buffers of the symmetric loops
+  std::vector<double> pairSum_;    // per-particle sums of the symmetric loops (sized once)
 
   std::vector<MaterialData> mat_;  // by material id
   // Scratch of the force loop (sized once, no allocation in the time loop): V = m / rho of every

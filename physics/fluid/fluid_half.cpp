@@ -1,0 +1,505 @@
+// The fluid module's neighbour loops on a half neighbour list (scene key `neighbour_list: half`
+// or `auto`, docs/performance.md "Half neighbour list"): each pair of real particles is stored
+// once (NeighbourList::half) and evaluated once, its contribution added to both particles through
+// PairScatter (libcore/pair_scatter.hpp: per-thread row blocks and spill buffers, no atomics, no
+// allocation once the buffers reached their working size). A pair of a real particle and a
+// ghost is in the real particle's row only and adds to it only (its mirror is in the row of the
+// ghost's source), as in the gather loops.
+//
+// The pair terms are those of the gather loops in fluid_module.cpp, term for term: each side's
+// term is the gather loop's expression with r_ba = -r_ab (exact in floating point), so the two
+// lists differ only in the order of the sums (round-off; tests/unit/test_half_neighbour_list.cpp).
+// Eqs.: continuity 5.1a (or the mass form), pressure 5.2b (or Hu-Adams), viscosity 5.4 with the
+// lattice normalisation, artificial viscosity 2.64-2.65, XSPH 2.66, wall extrapolation (Adami et
+// al. 2012), density summation (number-density form).
+#include <cmath>
+#include <cstring>
+
+#include "libcore/artificial_viscosity.hpp"
+#include "libcore/fluid_pair_terms.hpp"
+#include "libcore/phases.hpp"
+#include "libcore/simulation.hpp"
+#include "physics/fluid/fluid_module.hpp"
+
+namespace poresph {
+
+// Boundary particles with a fluid neighbour (1) and fluid particles with a boundary neighbour
+// (1), from the candidate lists; the gather form flags only the former (it visits only their
+// rows), the half form visits the rows of both and skips every other row.
+template <int D>
+void FluidModule::wetFlagsHalf(Simulation& sim) {
+  auto& st = sim.store;
+  const Index n = st.realCount();
+  const auto& cl = sim.neighbourCandidates();
+  const std::int32_t* ph = st.data(st.phase());
+  const Index* ghostSource = st.ghostSources().data();
+  unsigned char* wet = wetFlag_.data();
+#pragma omp parallel for schedule(static)
+  for (Index i = 0; i < n; ++i) wet[i] = 0;
+#pragma omp parallel for schedule(dynamic, 512)
+  for (Index i = 0; i < n; ++i) {
+    const bool fi = ph[i] == kPhaseFluid;
+    for (auto k = cl.offset[i]; k < cl.offset[i + 1]; ++k) {
+      const Index j = cl.index[static_cast<size_t>(k)];
+      if ((ph[j] == kPhaseFluid) == fi) continue;
+      const Index b = j < n ? j : ghostSource[j - n];
+#pragma omp atomic write
+      wet[b] = 1;
+#pragma omp atomic write
+      wet[i] = 1;
+    }
+  }
+}
+
+template <int D>
+void FluidModule::wallExtrapolationHalf(Simulation& sim) {
+  auto& st = sim.store;
+  const Index n = st.realCount();
+  const auto& nl = sim.neighbours;
+  const double* x = st.data(st.position());
+  const double* v = st.data(st.velocity());
+  const double* rho = st.data(st.density());
+  const std::int32_t* ph = st.data(st.phase());
+  const std::int32_t* mo = st.data(sim.motion);
+  double* p = st.data(pressure);
+  double* vw = st.data(wallVelocity);
+  const double* aw = movingBoundaries_ ? st.data(boundaryAcceleration_) : nullptr;
+  const unsigned char* wet = wetFlag_.data();
+  Vec<D> g;
+  for (int a = 0; a < D; ++a) g[a] = gravity_[static_cast<size_t>(a)];
+  // Per boundary particle: sum W, sum p W, sum rho W r, sum v W (the gather loop's sums).
+  constexpr int w = 2 + 2 * D;
+  scatter_.prepare(nl, n, w);
+  if (pairSum_.size() < static_cast<size_t>(n * w)) pairSum_.resize(static_cast<size_t>(n * w));
+  double* own = pairSum_.data();
+  sim.kernel.withFixedType<D>([&](const auto K) {
+#pragma omp parallel num_threads(scatter_.threads())
+    {
+      scatter_.forBlocks([&](int t) {
+        scatter_.zero(t, own);
+        for (Index i = scatter_.begin(t); i < scatter_.end(t); ++i) {
+          if (!wet[i]) continue;  // neither a wet boundary particle nor a fluid one near it
+          const bool fi = ph[i] == kPhaseFluid;
+          double sw = 0.0, sp = 0.0;
+          Vec<D> srr = Vec<D>::Zero(), sv = Vec<D>::Zero();
+          for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
+            const Index j = nl.index[static_cast<size_t>(k)];
+            const bool fj = ph[j] == kPhaseFluid;
+            if (fi == fj) continue;
+            Vec<D> r;
+            for (int a = 0; a < D; ++a) r[a] = x[i * D + a] - x[j * D + a];
+            const double wk = K.value(r.norm());
+            if (!fi) {  // i boundary, j fluid (real or ghost)
+              sw += wk;
+              sp += p[j] * wk;
+              srr += (rho[j] * wk) * r;
+              for (int a = 0; a < D; ++a) sv[a] += v[j * D + a] * wk;
+            } else if (j < n && wet[j]) {  // i fluid, j a real boundary particle
+              double* tj = scatter_.at(t, own, j);
+              const Vec<D> rji = -r;
+              tj[0] += wk;
+              tj[1] += p[i] * wk;
+              const Vec<D> s = (rho[i] * wk) * rji;
+              for (int a = 0; a < D; ++a) {
+                tj[2 + a] += s[a];
+                tj[2 + D + a] += v[i * D + a] * wk;
+              }
+            }
+          }
+          if (!fi) {
+            double* ti = own + i * w;
+            ti[0] += sw;
+            ti[1] += sp;
+            for (int a = 0; a < D; ++a) {
+              ti[2 + a] += srr[a];
+              ti[2 + D + a] += sv[a];
+            }
+          }
+        }
+      });
+#pragma omp barrier
+      scatter_.forBlocks([&](int t) {
+        scatter_.reduce(t, own);
+        for (Index i = scatter_.begin(t); i < scatter_.end(t); ++i) {
+          if (ph[i] == kPhaseFluid) continue;
+          const double* ti = own + i * w;
+          const double sw = wet[i] ? ti[0] : 0.0;
+          if (sw > 0.0) {
+            Vec<D> ga = g;  // a moving boundary: g - a_w (Adami et al. 2012, Eq. 27)
+            if (aw && mo[i] != kMotionFixed)
+              for (int a = 0; a < D; ++a) ga[a] -= aw[i * D + a];
+            Vec<D> srr;
+            for (int a = 0; a < D; ++a) srr[a] = ti[2 + a];
+            p[i] = (ti[1] + ga.dot(srr)) / sw;
+            for (int a = 0; a < D; ++a) vw[i * D + a] = 2.0 * v[i * D + a] - ti[2 + D + a] / sw;
+          } else {
+            p[i] = 0.0;
+            for (int a = 0; a < D; ++a) vw[i * D + a] = v[i * D + a];
+          }
+        }
+      });
+    }
+  });
+}
+
+template <int D>
+void FluidModule::densitySummationHalf(Simulation& sim) {
+  auto& st = sim.store;
+  const Index n = st.realCount();
+  const auto& nl = sim.neighbours;
+  const double* x = st.data(st.position());
+  const double* m = st.data(st.mass());
+  double* rho = st.data(st.density());
+  const std::int32_t* ph = st.data(st.phase());
+  scatter_.prepare(nl, n, 1);
+  if (pairSum_.size() < static_cast<size_t>(n)) pairSum_.resize(static_cast<size_t>(n));
+  double* own = pairSum_.data();
+  const double w0 = sim.kernel.value(0.0);
+  sim.kernel.withFixedType<D>([&](const auto K) {
+#pragma omp parallel num_threads(scatter_.threads())
+    {
+      scatter_.forBlocks([&](int t) {
+        scatter_.zero(t, own);
+        for (Index i = scatter_.begin(t); i < scatter_.end(t); ++i) {
+          const bool fi = ph[i] == kPhaseFluid;
+          double s = 0.0;
+          for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
+            const Index j = nl.index[static_cast<size_t>(k)];
+            const bool fj = j < n && ph[j] == kPhaseFluid;
+            if (!fi && !fj) continue;
+            Vec<D> r;
+            for (int a = 0; a < D; ++a) r[a] = x[i * D + a] - x[j * D + a];
+            const double wk = K.value(r.norm());
+            s += wk;
+            if (fj) *scatter_.at(t, own, j) += wk;
+          }
+          own[i] += s;
+        }
+      });
+#pragma omp barrier
+      scatter_.forBlocks([&](int t) {
+        scatter_.reduce(t, own);
+        for (Index i = scatter_.begin(t); i < scatter_.end(t); ++i)
+          if (ph[i] == kPhaseFluid) rho[i] = m[i] * (w0 + own[i]);
+      });
+    }
+  });
+}
+
+template <int D>
+void FluidModule::viscousFactorsHalf(Simulation& sim) {
+  auto& st = sim.store;
+  const Index n = st.realCount();
+  const auto& nl = sim.neighbours;
+  const double* x = st.data(st.position());
+  const double* m = st.data(st.mass());
+  const double* rho = st.data(st.density());
+  const std::int32_t* ph = st.data(st.phase());
+  double* factor = st.data(viscousFactor);
+  scatter_.prepare(nl, n, 1);
+  if (pairSum_.size() < static_cast<size_t>(n)) pairSum_.resize(static_cast<size_t>(n));
+  double* own = pairSum_.data();
+  sim.kernel.withFixedType<D>([&](const auto K) {
+#pragma omp parallel num_threads(scatter_.threads())
+    {
+      scatter_.forBlocks([&](int t) {
+        scatter_.zero(t, own);
+        for (Index i = scatter_.begin(t); i < scatter_.end(t); ++i) {
+          const bool fi = ph[i] == kPhaseFluid;
+          double moment = 0.0;  // sum_b V_b |r_ab|^2 (-F_ab), as the gather pass
+          for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
+            const Index j = nl.index[static_cast<size_t>(k)];
+            const bool fj = j < n && ph[j] == kPhaseFluid;
+            if (!fi && !fj) continue;
+            Vec<D> r;
+            for (int a = 0; a < D; ++a) r[a] = x[i * D + a] - x[j * D + a];
+            const double r2 = r.squaredNorm(), F = K.F(r.norm());
+            if (fi) moment -= (m[j] / rho[j]) * r2 * F;
+            if (fj) *scatter_.at(t, own, j) -= (m[i] / rho[i]) * r2 * F;
+          }
+          own[i] += moment;
+        }
+      });
+#pragma omp barrier
+      scatter_.forBlocks([&](int t) {
+        scatter_.reduce(t, own);
+        for (Index i = scatter_.begin(t); i < scatter_.end(t); ++i)
+          factor[i] = ph[i] == kPhaseFluid && own[i] > 0.5 * D ? D / own[i] : 1.0;
+      });
+    }
+  });
+}
+
+template <int D>
+void FluidModule::forceLoopHalf(Simulation& sim, double uShift, const double* wallRho) {
+  auto& st = sim.store;
+  const Index n = st.realCount();
+  const auto& nl = sim.neighbours;
+  const double* x = st.data(st.position());
+  const double* v = st.data(st.velocity());
+  const double* m = st.data(st.mass());
+  const double* rho = st.data(st.density());
+  const double* p = st.data(pressure);
+  const double* vw = st.data(wallVelocity);
+  const std::int32_t* ph = st.data(st.phase());
+  const std::int32_t* mt = st.data(st.material());
+  const std::int32_t* mo = st.data(sim.motion);
+  double* acc = st.data(sim.acceleration);
+  double* drho = summation_ ? nullptr : st.data(densityRate);
+  double* corrRate = positionCorrection.valid() ? st.data(positionCorrection) : nullptr;
+  double* nextFactor = normaliseViscosity_ ? st.data(viscousFactorNext) : nullptr;
+  const double* visc = normaliseViscosity_ ? st.data(viscousFactor) : nullptr;
+  const bool xsphOn = xsph_ > 0.0, shiftOn = shifting_ > 0.0, tvOn = transportVelocity_;
+  const double pOff = pressureReference_ ? backgroundPressure_ : 0.0;
+  const double tvScale = tvOn ? sim.dt * backgroundPressure_ : 0.0;
+  const MaterialData* md = mat_.data();
+  const int nm = static_cast<int>(mat_.size());
+  const double h = sim.kernel.h();
+  const bool huAdams = pressureForm_ == PressureForm::HuAdams;
+  const double alpha = artificialViscosity_, delta = densityDiffusion_;
+  const ContinuityForm form = continuityForm_;
+  const FluidPairSettings pairSettings = sim.fluidPairSettings;
+  const double* vol = vol_.data();
+  const double* pRho2 = pRho2_.data();
+  Vec<D> g;
+  for (int a = 0; a < D; ++a) g[a] = gravity_[static_cast<size_t>(a)];
+
+  // Per particle: acceleration (pressure + viscous + artificial), continuity sum, diffusion sum,
+  // viscous moment, then the optional XSPH, shifting and transport-velocity sums.
+  const int kDiv = D, kDiff = D + 1, kMom = D + 2;
+  int width = D + 3;
+  const int kX = xsphOn ? width : -1;
+  width += xsphOn ? D : 0;
+  const int kC = shiftOn ? width : -1;
+  width += shiftOn ? D : 0;
+  const int kT = tvOn ? width : -1;
+  width += tvOn ? D : 0;
+  const int w = width;
+  scatter_.prepare(nl, n, w);
+  if (pairSum_.size() < static_cast<size_t>(n * w)) pairSum_.resize(static_cast<size_t>(n * w));
+  double* own = pairSum_.data();
+  // A particle the loop gives forces to: a moving fluid particle of a fluid material.
+  auto receives = [&](Index i) {
+    if (ph[i] != kPhaseFluid || mo[i] == kMotionFixed) return false;
+    const int id = mt[i];
+    return id >= 0 && id < nm && md[id].fluid;
+  };
+  auto valid = [&](int id) { return id >= 0 && id < nm; };
+
+  sim.kernel.withFixedType<D>([&](const auto K) {
+#pragma omp parallel num_threads(scatter_.threads())
+    {
+      scatter_.forBlocks([&](int t) {
+        scatter_.zero(t, own);
+        for (Index i = scatter_.begin(t); i < scatter_.end(t); ++i) {
+          const bool recA = receives(i);
+          const bool fluidA = ph[i] == kPhaseFluid, wallA = ph[i] == kPhaseWall;
+          const int ida = mt[i];
+          const double rhoa = rho[i], pa = p[i], Va = m[i] / rhoa, ma = m[i];
+          const double fa = visc ? visc[i] : 1.0;
+          const MaterialData* mA = valid(ida) ? &md[ida] : nullptr;
+          Vec<D> va;
+          for (int a = 0; a < D; ++a) va[a] = v[i * D + a];
+          Vec<D> accA = Vec<D>::Zero(), dvXA = Vec<D>::Zero(), gradCA = Vec<D>::Zero(),
+                 tvA = Vec<D>::Zero();
+          double divA = 0.0, diffA = 0.0, momA = 0.0;
+          for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
+            const Index j = nl.index[static_cast<size_t>(k)];
+            const bool recB = j < n && receives(j);
+            if (!recA && !recB) continue;
+            Vec<D> r;
+            for (int a = 0; a < D; ++a) r[a] = x[i * D + a] - x[j * D + a];
+            const double F = K.F(r.norm());
+            if (F == 0.0) continue;
+            const Vec<D> gradW = F * r;  // grad_a W_ab; grad_b W_ba = -gradW
+            Vec<D> vb;
+            for (int a = 0; a < D; ++a) vb[a] = v[j * D + a];
+            double* tb = recB ? scatter_.at(t, own, j) : nullptr;
+            const double r2 = r.squaredNorm();
+            // Every neighbour: the viscous moment for the next factor, shifting and transport
+            // velocity sums (as the gather loop).
+            if (recA) momA -= vol[j] * r2 * F;
+            if (recB) tb[kMom] -= vol[i] * r2 * F;
+            if (shiftOn) {
+              if (recA) gradCA += (m[j] / rho[j]) * gradW;
+              if (recB)
+                for (int a = 0; a < D; ++a) tb[kC + a] -= (m[i] / rho[i]) * gradW[a];
+            }
+            if (tvOn) {
+              const double Vb = m[j] / rho[j];
+              if (recA) tvA += (Va * Va + Vb * Vb) * gradW;
+              if (recB) {
+                const Vec<D> s = (Vb * Vb + Va * Va) * gradW;
+                for (int a = 0; a < D; ++a) tb[kT + a] -= s[a];
+              }
+            }
+            const bool fluidB = ph[j] == kPhaseFluid, wallB = ph[j] == kPhaseWall;
+            // Fluid-wall pairs: the shared pair terms, for the fluid side only (walls are fixed).
+            if (recA && wallB) {
+              FluidPairSide<D> sa;
+              sa.m = ma;
+              sa.rho = rhoa;
+              sa.p = pa;
+              sa.props = mA;
+              sa.v = va;
+              BoundaryPairSide<D> sb;
+              sb.p = p[j];
+              sb.volume = vol[j];
+              sb.rho = wallRho ? wallRho[j] : 0.0;
+              sb.v = vb;
+              for (int a = 0; a < D; ++a) sb.vNoSlip[a] = vw[j * D + a];
+              const FluidPairResult<D> tr = fluidBoundaryPair<D>(r, F, sa, sb, pairSettings);
+              accA += tr.pressure;
+              accA += fa * tr.viscous;
+              accA += tr.artificial;
+              divA += tr.divergence;
+            }
+            if (recB && wallA) {
+              const int idb = mt[j];
+              FluidPairSide<D> sa;
+              sa.m = m[j];
+              sa.rho = rho[j];
+              sa.p = p[j];
+              sa.props = &md[idb];
+              sa.v = vb;
+              BoundaryPairSide<D> sb;
+              sb.p = pa;
+              sb.volume = vol[i];
+              sb.rho = wallRho ? wallRho[i] : 0.0;
+              sb.v = va;
+              for (int a = 0; a < D; ++a) sb.vNoSlip[a] = vw[i * D + a];
+              const Vec<D> rji = -r;
+              const FluidPairResult<D> tr = fluidBoundaryPair<D>(rji, F, sa, sb, pairSettings);
+              const double fb = visc ? visc[j] : 1.0;
+              const Vec<D> s = tr.pressure + fb * tr.viscous + tr.artificial;
+              for (int a = 0; a < D; ++a) tb[a] += s[a];
+              tb[kDiv] += tr.divergence;
+            }
+            if (!(fluidA && fluidB)) continue;  // fluid-solid / fluid-rigid: the coupling's
+            // Fluid-fluid pair (Eqs. 5.1a, 5.2b / Hu-Adams, 5.4, 2.64): each side's term as the
+            // gather loop writes it for that side.
+            const int idb = mt[j];
+            const MaterialData* mB = valid(idb) ? &md[idb] : nullptr;
+            const double rhob = rho[j], pb = p[j], Vb = vol[j], mb = m[j];
+            const double muA = mA ? mA->viscosity : (mB ? mB->viscosity : 0.0);
+            const double muB = mB ? mB->viscosity : muA;
+            const double muBar =
+                muA + muB > 0.0 ? (harmonicMean_ ? 4.0 * muA * muB / (muA + muB) : muA + muB)
+                                : 0.0;
+            const double fab = 0.5 * (fa + (visc ? visc[j] : 1.0));
+            const Vec<D> vab = va - vb;
+            const double vabGradW = vab.dot(gradW);  // = v_ba . grad_b W_ba
+            if (delta > 0.0 && idb == ida) {  // Molteni-Colagrossi density diffusion
+              if (recA) diffA += 2.0 * Vb * (rhoa - rhob) * F;
+              if (recB) tb[kDiff] += 2.0 * Va * (rhob - rhoa) * F;
+            }
+            if (xsphOn && idb == ida) {  // XSPH (2.66) within one material
+              const double wk = K.value(r.norm());
+              if (recA) dvXA += (2.0 * mb / (rhoa + rhob) * wk) * (vb - va);
+              if (recB) {
+                const Vec<D> s = (2.0 * ma / (rhob + rhoa) * wk) * (va - vb);
+                for (int a = 0; a < D; ++a) tb[kX + a] += s[a];
+              }
+            }
+            Vec<D> fA, fB;  // accelerations of a and b from the pair
+            if (huAdams) {
+              const double pt = (rhob * (pa - pOff) + rhoa * (pb - pOff)) / (rhoa + rhob);
+              const double sq = Va * Va + Vb * Vb;
+              const double vvA = sq / ma, vvB = sq / mb;
+              fA = -(vvA * pt) * gradW + (fab * vvA * 0.5 * muBar * F) * vab;
+              fB = (vvB * pt) * gradW - (fab * vvB * 0.5 * muBar * F) * vab;
+            } else {
+              const double ps = pRho2[i] + pRho2[j];  // Eq. 5.2b
+              fA = -(mb * ps) * gradW;
+              fB = (ma * ps) * gradW;
+              if (muBar != 0.0) {  // Eq. 5.4
+                fA += (fab * muBar * Vb * F / rhoa) * vab;
+                fB -= (fab * muBar * Va * F / rhob) * vab;
+              }
+            }
+            if (alpha > 0.0) {  // Eq. 2.64 (Pi_ab = Pi_ba)
+              const double ca = mA ? mA->soundSpeed : mB->soundSpeed;
+              const double cb = mB ? mB->soundSpeed : ca;
+              const double Pi = artificialViscosityPi<D>(vab, r, h, alpha, 0.0, ca, cb, rhoa, rhob);
+              fA -= (mb * Pi) * gradW;
+              fB += (ma * Pi) * gradW;
+            }
+            if (recA) {
+              accA += fA;
+              divA += continuityTerm(form, rhoa, mb, Vb, vabGradW);  // Eq. 5.1a / mass form
+            }
+            if (recB) {
+              for (int a = 0; a < D; ++a) tb[a] += fB[a];
+              tb[kDiv] += continuityTerm(form, rhob, ma, Va, vabGradW);
+            }
+          }
+          if (recA) {
+            double* ti = own + i * w;
+            for (int a = 0; a < D; ++a) ti[a] += accA[a];
+            ti[kDiv] += divA;
+            ti[kDiff] += diffA;
+            ti[kMom] += momA;
+            for (int a = 0; a < D; ++a) {
+              if (xsphOn) ti[kX + a] += dvXA[a];
+              if (shiftOn) ti[kC + a] += gradCA[a];
+              if (tvOn) ti[kT + a] += tvA[a];
+            }
+          }
+        }
+      });
+#pragma omp barrier
+      // Every pair is in: the per-particle part, as at the end of the gather loop's row.
+      scatter_.forBlocks([&](int t) {
+        scatter_.reduce(t, own);
+        for (Index i = scatter_.begin(t); i < scatter_.end(t); ++i) {
+          if (nextFactor) nextFactor[i] = 1.0;
+          if (!receives(i)) continue;
+          const double* ti = own + i * w;
+          const MaterialData& ma = md[mt[i]];
+          const double moment = ti[kMom];
+          if (nextFactor) nextFactor[i] = moment > 0.5 * D ? D / moment : 1.0;
+          Vec<D> ai;
+          for (int a = 0; a < D; ++a) ai[a] = ti[a] + g[a];
+          for (const BodyForce& b : bodyForces_) {
+            bool inside = true;
+            for (int a = 0; a < D; ++a)
+              inside = inside && x[i * D + a] >= b.lo[static_cast<size_t>(a)] &&
+                       x[i * D + a] <= b.hi[static_cast<size_t>(a)];
+            if (inside)
+              for (int a = 0; a < D; ++a) ai[a] += b.acceleration[static_cast<size_t>(a)];
+          }
+          for (int a = 0; a < D; ++a) acc[i * D + a] += ai[a];
+          if (drho) drho[i] += rho[i] * ti[kDiv] + delta * h * ma.soundSpeed * ti[kDiff];
+          if (corrRate) {  // XSPH, transport velocity, shifting: as the gather loop
+            Vec<D> dv = Vec<D>::Zero();
+            if (xsphOn)
+              for (int a = 0; a < D; ++a) dv[a] = xsph_ * ti[kX + a];
+            if (tvOn)
+              for (int a = 0; a < D; ++a) dv[a] -= (tvScale / m[i]) * ti[kT + a];
+            if (shiftOn) {
+              Vec<D> ds;
+              for (int a = 0; a < D; ++a) ds[a] = -shifting_ * h * uShift * ti[kC + a];
+              const double cap = 0.5 * uShift, len = ds.norm();
+              if (len > cap) ds *= cap / len;
+              dv += ds;
+            }
+            for (int a = 0; a < D; ++a) corrRate[i * D + a] += dv[a];
+          }
+        }
+      });
+    }
+  });
+}
+
+#define PORESPH_FLUID_HALF(D)                                                                 \
+  template void FluidModule::wetFlagsHalf<D>(Simulation&);                                    \
+  template void FluidModule::wallExtrapolationHalf<D>(Simulation&);                           \
+  template void FluidModule::densitySummationHalf<D>(Simulation&);                            \
+  template void FluidModule::viscousFactorsHalf<D>(Simulation&);                              \
+  template void FluidModule::forceLoopHalf<D>(Simulation&, double, const double*);
+PORESPH_FLUID_HALF(1)
+PORESPH_FLUID_HALF(2)
+PORESPH_FLUID_HALF(3)
+#undef PORESPH_FLUID_HALF
+
+}  // namespace poresph
