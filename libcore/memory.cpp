@@ -1,5 +1,7 @@
 #include "libcore/memory.hpp"
 
+#include <cmath>
+
 #include <cstdio>
 #include <fstream>
 #include <iomanip>
@@ -126,18 +128,39 @@ MemoryReport memoryReport(const Simulation& sim, std::uint64_t particles,
   }
   r.lines.push_back({"rollback copy", static_cast<double>(RollbackState::bytesPerParticle(st)),
                      0.0, "checkpoint and output fields (health: rollback_every)"});
+  const std::string listKind = sim.halfNeighbourList ? " (half: each pair once)" : "";
   if (sim.neighbours.realCount() > 0) {
     const double n = static_cast<double>(sim.neighbours.realCount());
     r.lines.push_back({"neighbour list", static_cast<double>(sim.neighbours.bytes()) / n, 0.0,
                        "measured: mean " +
                            std::to_string(static_cast<long>(
                                static_cast<double>(sim.neighbours.pairCount()) / n + 0.5)) +
-                           " neighbours x 4 bytes + 8-byte offset"});
+                           " neighbours x 4 bytes + 8-byte offset" + listKind});
+    if (sim.neighbourSkin > 0.0 && sim.verlet.candidates().realCount() > 0)
+      r.lines.push_back({"Verlet candidates", static_cast<double>(sim.verlet.bytes()) / n, 0.0,
+                         "measured: mean " +
+                             std::to_string(static_cast<long>(
+                                 static_cast<double>(sim.verlet.candidates().pairCount()) / n +
+                                 0.5)) +
+                             " within support + skin, positions at the search"});
     r.lines.push_back({"neighbour search", static_cast<double>(sim.search.bytes()) / n, 0.0,
                        "cells, sorted positions, thread buffers"});
   } else {
-    r.lines.push_back({"neighbour list", neighboursPerParticle * sizeof(std::uint32_t) + 8.0,
-                       0.0, "lattice estimate"});
+    // A half list holds each pair once; with a Verlet skin the candidates (support + skin) are
+    // held beside it, and the exact list keeps room for as many entries as the candidates
+    // (VerletNeighbours::filter writes in place).
+    const double entries = neighboursPerParticle * (sim.halfNeighbourList ? 0.5 : 1.0);
+    const double support = sim.kernel.support();
+    if (sim.neighbourSkin > 0.0 && support > 0.0) {
+      const double cand = entries * std::pow((support + sim.neighbourSkin) / support, d);
+      r.lines.push_back({"neighbour list", cand * 1.0625 * sizeof(std::uint32_t) + 8.0, 0.0,
+                         "lattice estimate, room for the candidates" + listKind});
+      r.lines.push_back({"Verlet candidates", cand * 1.0625 * sizeof(std::uint32_t) + 8.0 + 8.0 * d,
+                         0.0, "lattice estimate"});
+    } else {
+      r.lines.push_back({"neighbour list", entries * sizeof(std::uint32_t) + 8.0, 0.0,
+                         "lattice estimate" + listKind});
+    }
     r.lines.push_back({"neighbour search", 16.0 + 8.0 * d, 0.0, "estimate"});
   }
   for (const auto& l : r.lines) {

@@ -35,8 +35,14 @@ class PairScatter {
   /// Outside a parallel region: the blocks of omp_get_max_threads() threads over the rows
   /// [0, nReal) of `nl` and the spill of each, for `width` doubles per particle.
   void prepare(const NeighbourList& nl, Index nReal, int width) {
+    layout(nl, nReal);
+    size(width);
+  }
+  /// The blocks and spill ranges alone (a scan of the list). The layout of a list serves every
+  /// list whose rows are subsets of its rows (the Verlet exact lists filtered from candidates
+  /// until the next search): lay out on the candidates once per search, then size() per loop.
+  void layout(const NeighbourList& nl, Index nReal) {
     nt_ = std::max(1, omp_get_max_threads());
-    w_ = width;
     n_ = nReal;
     block_.resize(static_cast<size_t>(nt_) + 1);
     spillEnd_.resize(static_cast<size_t>(nt_));
@@ -65,6 +71,10 @@ class PairScatter {
       }
       spillEnd_[static_cast<size_t>(t)] = hi;
     }
+  }
+  /// Buffers of the layout for `width` doubles per particle (grow only when too small).
+  void size(int width) {
+    w_ = width;
     for (int t = 0; t < nt_; ++t) {
       auto& s = spill_[static_cast<size_t>(t)];
       const std::size_t need = static_cast<std::size_t>(spillEnd_[static_cast<size_t>(t)] -
@@ -80,6 +90,8 @@ class PairScatter {
   /// Threads of the layout: run the loop with `num_threads(threads())`; a team of another size
   /// must take the blocks t = thread, thread + team, ... (forBlocks does).
   int threads() const { return nt_; }
+  /// Rows of the layout (nReal of the last layout()).
+  Index rows() const { return n_; }
   Index begin(int t) const { return block_[static_cast<size_t>(t)]; }
   Index end(int t) const { return block_[static_cast<size_t>(t) + 1]; }
   /// Calls f(t) for every block t handled by the calling thread of the current team.

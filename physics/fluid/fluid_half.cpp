@@ -12,6 +12,9 @@
 // Eqs.: continuity 5.1a (or the mass form), pressure 5.2b (or Hu-Adams), viscosity 5.4 with the
 // lattice normalisation, artificial viscosity 2.64-2.65, XSPH 2.66, wall extrapolation (Adami et
 // al. 2012), density summation (number-density form).
+#include <omp.h>
+
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -22,6 +25,19 @@
 #include "physics/fluid/fluid_module.hpp"
 
 namespace poresph {
+
+void FluidModule::layoutHalf(Simulation& sim, int width) {
+  const Index n = sim.store.realCount();
+  if (layoutBuild_ != sim.neighbourBuilds() || layoutCount_ != sim.store.size() ||
+      scatter_.rows() != n || scatter_.threads() != std::max(1, omp_get_max_threads())) {
+    // The exact list's rows are subsets of the candidates' rows until the next search.
+    scatter_.layout(sim.neighbourCandidates(), n);
+    layoutBuild_ = sim.neighbourBuilds();
+    layoutCount_ = sim.store.size();
+  }
+  scatter_.size(width);
+  if (pairSum_.size() < static_cast<size_t>(n * width)) pairSum_.resize(static_cast<size_t>(n * width));
+}
 
 // Boundary particles with a fluid neighbour (1) and fluid particles with a boundary neighbour
 // (1), from the candidate lists; the gather form flags only the former (it visits only their
@@ -69,8 +85,7 @@ void FluidModule::wallExtrapolationHalf(Simulation& sim) {
   for (int a = 0; a < D; ++a) g[a] = gravity_[static_cast<size_t>(a)];
   // Per boundary particle: sum W, sum p W, sum rho W r, sum v W (the gather loop's sums).
   constexpr int w = 2 + 2 * D;
-  scatter_.prepare(nl, n, w);
-  if (pairSum_.size() < static_cast<size_t>(n * w)) pairSum_.resize(static_cast<size_t>(n * w));
+  layoutHalf(sim, w);
   double* own = pairSum_.data();
   sim.kernel.withFixedType<D>([&](const auto K) {
 #pragma omp parallel num_threads(scatter_.threads())
@@ -151,8 +166,7 @@ void FluidModule::densitySummationHalf(Simulation& sim) {
   const double* m = st.data(st.mass());
   double* rho = st.data(st.density());
   const std::int32_t* ph = st.data(st.phase());
-  scatter_.prepare(nl, n, 1);
-  if (pairSum_.size() < static_cast<size_t>(n)) pairSum_.resize(static_cast<size_t>(n));
+  layoutHalf(sim, 1);
   double* own = pairSum_.data();
   const double w0 = sim.kernel.value(0.0);
   sim.kernel.withFixedType<D>([&](const auto K) {
@@ -196,8 +210,7 @@ void FluidModule::viscousFactorsHalf(Simulation& sim) {
   const double* rho = st.data(st.density());
   const std::int32_t* ph = st.data(st.phase());
   double* factor = st.data(viscousFactor);
-  scatter_.prepare(nl, n, 1);
-  if (pairSum_.size() < static_cast<size_t>(n)) pairSum_.resize(static_cast<size_t>(n));
+  layoutHalf(sim, 1);
   double* own = pairSum_.data();
   sim.kernel.withFixedType<D>([&](const auto K) {
 #pragma omp parallel num_threads(scatter_.threads())
@@ -275,16 +288,23 @@ void FluidModule::forceLoopHalf(Simulation& sim, double uShift, const double* wa
   const int kT = tvOn ? width : -1;
   width += tvOn ? D : 0;
   const int w = width;
-  scatter_.prepare(nl, n, w);
-  if (pairSum_.size() < static_cast<size_t>(n * w)) pairSum_.resize(static_cast<size_t>(n * w));
+  layoutHalf(sim, w);
   double* own = pairSum_.data();
-  // A particle the loop gives forces to: a moving fluid particle of a fluid material.
-  auto receives = [&](Index i) {
-    if (ph[i] != kPhaseFluid || mo[i] == kMotionFixed) return false;
+  // A particle the loop gives forces to: a moving fluid particle of a fluid material (flags
+  // set once per evaluation, read per pair).
+  if (receives_.size() < static_cast<size_t>(n)) receives_.resize(static_cast<size_t>(n));
+  unsigned char* recvW = receives_.data();
+#pragma omp parallel for schedule(static)
+  for (Index i = 0; i < n; ++i) {
     const int id = mt[i];
-    return id >= 0 && id < nm && md[id].fluid;
-  };
+    recvW[i] = ph[i] == kPhaseFluid && mo[i] != kMotionFixed && id >= 0 && id < nm && md[id].fluid;
+  }
+  const unsigned char* recv = recvW;
+  auto receives = [recv](Index i) { return recv[i] != 0; };
   auto valid = [&](int id) { return id >= 0 && id < nm; };
+  // Rows of boundary particles without a fluid neighbour (the constitutive stage's flags, a
+  // superset until the next search) hold no pair this loop evaluates: skipped whole.
+  const unsigned char* wet = wetFlag_.data();
 
   sim.kernel.withFixedType<D>([&](const auto K) {
 #pragma omp parallel num_threads(scatter_.threads())
@@ -292,8 +312,9 @@ void FluidModule::forceLoopHalf(Simulation& sim, double uShift, const double* wa
       scatter_.forBlocks([&](int t) {
         scatter_.zero(t, own);
         for (Index i = scatter_.begin(t); i < scatter_.end(t); ++i) {
-          const bool recA = receives(i);
           const bool fluidA = ph[i] == kPhaseFluid, wallA = ph[i] == kPhaseWall;
+          if (!fluidA && !wet[i]) continue;
+          const bool recA = receives(i);
           const int ida = mt[i];
           const double rhoa = rho[i], pa = p[i], Va = m[i] / rhoa, ma = m[i];
           const double fa = visc ? visc[i] : 1.0;
@@ -489,6 +510,22 @@ void FluidModule::forceLoopHalf(Simulation& sim, double uShift, const double* wa
       });
     }
   });
+}
+
+std::uint64_t FluidModule::heldBytes() const {
+  return static_cast<std::uint64_t>(scatter_.bytes() + pairSum_.capacity() * sizeof(double));
+}
+
+double FluidModule::deferredBytesPerParticle(const Simulation& sim, double,
+                                             const std::vector<Index>&) const {
+  if (!sim.halfNeighbourList) return 0.0;
+  // The force loop's sums (acceleration, continuity, diffusion, moment and the optional XSPH,
+  // shifting and transport-velocity vectors) for every particle, plus the spills: about a slab
+  // of the support's thickness per thread boundary, counted here as 10 % (docs/performance.md).
+  const int d = sim.dimension();
+  const int width = d + 3 + (xsph_ > 0.0 ? d : 0) + (shifting_ > 0.0 ? d : 0) +
+                    (transportVelocity_ ? d : 0);
+  return 1.1 * width * sizeof(double);
 }
 
 #define PORESPH_FLUID_HALF(D)                                                                 \

@@ -79,6 +79,10 @@ class FluidModule : public Module {
   bool supportsHalfNeighbourList() const override { return gamma_ == 0.0; }
   /// Blocks and spill buffers of the symmetric loops (their allocations, for tests).
   const PairScatter& pairScatter() const { return scatter_; }
+  /// The symmetric loops' per-particle sums and spill buffers (half list only; fluid_half.cpp).
+  std::uint64_t heldBytes() const override;
+  double deferredBytesPerParticle(const Simulation& sim, double neighbours,
+                                  const std::vector<Index>& particlesPerMaterial) const override;
 
   // ---- read-only access for tests and diagnostics ----
   const MaterialData& materialData(int id) const { return mat_.at(static_cast<size_t>(id)); }
@@ -121,8 +125,12 @@ class FluidModule : public Module {
   template <int D> void densitySummationHalf(Simulation& sim);
   template <int D> void viscousFactorsHalf(Simulation& sim);
   template <int D> void forceLoopHalf(Simulation& sim, double uShift, const double* wallRho);
+  /// The scatter's layout, on the candidates, once per neighbour search; buffers for `width`.
+  void layoutHalf(Simulation& sim, int width);
   PairScatter scatter_;            // blocks and spill buffers of the symmetric loops
+  Index layoutBuild_ = -1, layoutCount_ = -1;  // neighbour search and store size of the layout
   std::vector<double> pairSum_;    // per-particle sums of the symmetric loops (sized once)
+  std::vector<unsigned char> receives_;  // force loop: a moving fluid particle of a fluid material
 
   std::vector<MaterialData> mat_;  // by material id
   // Scratch of the force loop (sized once, no allocation in the time loop): V = m / rho of every
