@@ -12,6 +12,7 @@
 #include <sstream>
 #include <unordered_map>
 
+#include "libcore/consistent_load.hpp"
 #include "libcore/contact_repulsion.hpp"
 #include "libcore/fluid_pair_terms.hpp"
 #include "libcore/phases.hpp"
@@ -157,8 +158,16 @@ void RigidModule::configure(Simulation& sim, const std::vector<const Material*>&
   // Bonded rigid-solid interfaces only where a material asks for them.
   bonds_ = std::any_of(mats_.begin(), mats_.end(), [](const RigidMaterial& r) { return r.bonded; });
   if (bonds_) {
-    bondBody_ = st.addInt("bond_body", 1, kFieldCheckpoint, "rigid");
+    // copied to ghosts: the rigid side of a pair checks its (possibly ghost) solid neighbour's bond
+    bondBody_ = st.addInt("bond_body", 1, kFieldCheckpoint | kFieldToGhosts, "rigid");
     bondAnchor_ = st.addReal("bond_anchor", d, kFieldCheckpoint, "rigid");
+  }
+  plateSlots_ = 0;
+  if (std::any_of(mats_.begin(), mats_.end(), [](const RigidMaterial& r) { return r.bondSlip; })) {
+    plateSlots_ = 2 * d;  // a particle within two supports of every face of a thin sample
+    plateBond_ = st.addInt("plate_bond", plateSlots_, kFieldCheckpoint | kFieldToGhosts, "rigid");
+    plateWeight_ = st.addReal("plate_bond_weight", plateSlots_, kFieldCheckpoint, "rigid");
+    plateOrigin_ = st.addReal("plate_bond_origin", d, kFieldCheckpoint, "rigid");
   }
 }
 
@@ -254,8 +263,10 @@ void RigidModule::initialiseBonds(Simulation& sim) {
   };
   std::unordered_multimap<unsigned long long, Index> cells;
   for (Index j = 0; j < n; ++j)
-    if (body[j] >= 0 && materialOf(bodies_[static_cast<size_t>(body[j])].material)->bonded)
-      cells.emplace(key(cellOf(x + j * d)), j);
+    if (body[j] >= 0) {
+      const RigidMaterial* rm = materialOf(bodies_[static_cast<size_t>(body[j])].material);
+      if (rm->bonded && !rm->bondSlip) cells.emplace(key(cellOf(x + j * d)), j);  // slip: PlateBond
+    }
   const double reach = 1.5 * dx;  // first layer, concave staircase corners included
   std::vector<rigid::M3> R(bodies_.size());
   for (size_t b = 0; b < bodies_.size(); ++b) R[b] = bodies_[b].state.R();
@@ -410,15 +421,150 @@ Vec<D> RigidModule::bondForce(const Simulation& sim, Index i, const double* x,
   double area = 1.0;
   for (int c = 2; c < D; ++c) area *= sim.spacing;
   if (D == 1) area = 1.0 / sim.spacing;
-  const RigidMaterial& rm = *materialOf(B.material);
-  if (rm.bondSlip) {  // along the plate's direction only: the face slides along the plate
-    double dn = 0.0;
-    for (int a = 0; a < D; ++a) dn += dvec[a] * rm.plateDirection[static_cast<size_t>(a)];
-    Vec<D> f;
-    for (int a = 0; a < D; ++a) f[a] = -(2.0 * k * area) * dn * rm.plateDirection[static_cast<size_t>(a)];
-    return f;
-  }
   return -(2.0 * k * area) * dvec;
+}
+
+// ---------------------------------------------------------------------------------------------
+// `bonded: slip` plates: one bond per plate to the consistent-load-weighted mean of the solid
+// within two supports of its face (docs/rigid.md "Plate confinement")
+// ---------------------------------------------------------------------------------------------
+template <int D>
+void RigidModule::initialisePlateBonds(Simulation& sim) {
+  ParticleStore& st = sim.store;
+  const Index n = st.realCount();
+  const double* x = st.data(st.position());
+  const double* m = st.data(st.mass());
+  const std::int32_t* ph = st.data(st.phase());
+  const std::int32_t* mt = st.data(st.material());
+  const std::int32_t* body = st.data(body_);
+  std::int32_t* slot = st.data(plateBond_);
+  double* weight = st.data(plateWeight_);
+  double* origin = st.data(plateOrigin_);
+  const int S = plateSlots_;
+  for (Index i = 0; i < n; ++i) {
+    for (int q = 0; q < S; ++q) {
+      slot[i * S + q] = -1;
+      weight[i * S + q] = 0.0;
+    }
+    for (int a = 0; a < D; ++a) origin[i * D + a] = x[i * D + a];
+  }
+  // Consistent nodal load of a uniform unit stress over the solid's reference configuration
+  // (Eq. 2.76, mixed-corrected gradients 2.63b; libcore/consistent_load.hpp).
+  std::vector<Index> solid;
+  std::vector<double> X, V;
+  for (Index i = 0; i < n; ++i) {
+    if (ph[i] != kPhaseSolid) continue;
+    solid.push_back(i);
+    for (int a = 0; a < D; ++a) X.push_back(x[i * D + a]);
+    V.push_back(m[i] / sim.materials[static_cast<size_t>(mt[i])].density);
+  }
+  const Index ns = static_cast<Index>(solid.size());
+  const std::vector<double> load = consistentLoadVectors<D>(sim.kernel, sim.domain, X.data(), V.data(), ns);
+  // The solid particles within two supports of the plate's plane (its innermost particle row,
+  // n . x = max over the plate) and, across it, of the plate's extent carry the plate's s_a:
+  // beyond two supports of a surface s_a is zero (a particle's family and its neighbours' families
+  // are complete). The plane, not the plate's particles: along the edges and corners of a sample
+  // the missing lattice sites are neither plate's, and the particles they leave s_a on lie up to
+  // two supports from the plane but further from the plate's particles.
+  const double reach = 2.0 * sim.kernel.support();
+  const Domain& dom = sim.domain;
+  for (size_t b = 0; b < bodies_.size(); ++b) {
+    const RigidMaterial& rm = *materialOf(bodies_[b].material);
+    if (!rm.bondSlip) continue;
+    PlateBond P;
+    P.body = static_cast<int>(b);
+    for (int a = 0; a < D; ++a) P.n[a] = rm.plateDirection[static_cast<size_t>(a)];
+    // plane and lateral extent (bounding box of (1 - n n) x over the plate's particles)
+    const V3 X0 = bodies_[b].state.X;
+    double plane = -std::numeric_limits<double>::infinity();
+    V3 lo = V3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+    for (Index j = 0; j < n; ++j) {
+      if (body[j] != static_cast<int>(b)) continue;
+      V3 r = V3::Zero();
+      for (int a = 0; a < D; ++a) r[a] = wrapDelta(x[j * D + a] - X0[a], dom, a);
+      plane = std::max(plane, P.n.dot(r));
+      const V3 lat = r - P.n.dot(r) * P.n;
+      lo = lo.cwiseMin(lat);
+      hi = hi.cwiseMax(lat);
+    }
+    const int pb = static_cast<int>(plateBonds_.size());
+    std::vector<std::pair<Index, double>> members;  // (particle, n . s_a)
+    double total = 0.0, kmax = rm.contactModulus;
+    for (Index k = 0; k < ns; ++k) {
+      const Index i = solid[static_cast<size_t>(k)];
+      V3 r = V3::Zero();
+      for (int a = 0; a < D; ++a) r[a] = wrapDelta(x[i * D + a] - X0[a], dom, a);
+      const double depth = P.n.dot(r) - plane;
+      if (!(depth > 0.0 && depth < reach)) continue;
+      const V3 lat = r - P.n.dot(r) * P.n;
+      bool inside = true;
+      for (int a = 0; a < D; ++a)
+        inside = inside && lat[a] > lo[a] - reach && lat[a] < hi[a] + reach;
+      if (!inside) continue;
+      double ns_a = 0.0;
+      for (int a = 0; a < D; ++a) ns_a += P.n[a] * load[static_cast<size_t>(k) * D + a];
+      members.emplace_back(i, ns_a);
+      total += ns_a;
+      kmax = std::max(kmax, solidModulus_[static_cast<size_t>(mt[i])]);
+    }
+    if (members.empty() || !(std::abs(total) > 0.0))
+      throw InputError("rigid: plate body " + std::to_string(b) + " of material '" + rm.name +
+                       "' has `bonded: slip` but no elastic solid surface within two kernel "
+                       "supports (" + fmtNum(reach) + " m) of it; place the plate against the "
+                       "solid or drop `bonded` in " + rm.where);
+    for (const auto& [i, c] : members) {
+      int q = 0;
+      while (q < S && slot[i * S + q] >= 0) ++q;
+      if (q == S)
+        throw InputError("rigid: a solid particle lies within two kernel supports of more than " +
+                         std::to_string(S) + " `bonded: slip` plates (plate material '" + rm.name +
+                         "', " + rm.where + "): the sample is too thin for its plates");
+      for (int o = 0; o < q; ++o)  // opposite plates' loads would mix in s_a
+        if (plateBonds_[static_cast<size_t>(slot[i * S + o])].n.dot(P.n) < -0.5)
+          throw InputError("rigid: `bonded: slip` plate material '" + rm.name + "' (" + rm.where +
+                           ") and the plate opposite it are less than four kernel supports (" +
+                           fmtNum(2.0 * reach) + " m) apart: their consistent loads overlap in "
+                           "the solid between them; use a thicker sample or a smaller spacing");
+      slot[i * S + q] = pb;
+      weight[i * S + q] = c / total;
+    }
+    P.loadArea = std::abs(total);
+    P.particles = static_cast<Index>(members.size());
+    // The per-particle bonds of the face summed: 2 k dx^(D-2) per particle of area dx^(D-1)
+    // (the half layer between the face row and the plate, A.17).
+    P.stiffness = 2.0 * kmax * rm.plateArea / sim.spacing;
+    maxBondModulus_ = std::max(maxBondModulus_, kmax);
+    plateBonds_.push_back(P);
+  }
+}
+
+template <int D>
+void RigidModule::plateBondDeltas(const Simulation& sim) {
+  const ParticleStore& st = sim.store;
+  const Index n = st.realCount();
+  const double* x = st.data(st.position());
+  const std::int32_t* slot = st.data(plateBond_);
+  const double* weight = st.data(plateWeight_);
+  const double* origin = st.data(plateOrigin_);
+  const int S = plateSlots_;
+  const size_t np = plateBonds_.size();
+  std::vector<double> mean(np, 0.0);
+  for (Index i = 0; i < n; ++i) {
+    if (slot[i * S] < 0) continue;
+    Vec<D> u;
+    for (int a = 0; a < D; ++a) u[a] = wrapDelta(x[i * D + a] - origin[i * D + a], sim.domain, a);
+    for (int q = 0; q < S && slot[i * S + q] >= 0; ++q) {
+      const PlateBond& P = plateBonds_[static_cast<size_t>(slot[i * S + q])];
+      double un = 0.0;
+      for (int a = 0; a < D; ++a) un += P.n[a] * u[a];
+      mean[static_cast<size_t>(slot[i * S + q])] += weight[i * S + q] * un;
+    }
+  }
+  for (size_t p = 0; p < np; ++p) {
+    PlateBond& P = plateBonds_[p];
+    const RigidBody& B = bodies_[static_cast<size_t>(P.body)];
+    P.delta = P.n.dot(place_[static_cast<size_t>(P.body)] - B.X0) - mean[p];
+  }
 }
 
 const RigidMaterial* RigidModule::materialOf(int id) const {
@@ -662,6 +808,9 @@ void RigidModule::initialise(Simulation& sim) {
   }
   findSurface(sim);
   if (bonds_) initialiseBonds(sim);
+  plateBonds_.clear();
+  if (plateSlots_ > 0)
+    dispatchDimension(d, [&](auto dc) { this->initialisePlateBonds<decltype(dc)::value>(sim); });
   threads_ = std::max(1, omp_get_max_threads());
   partial_.assign(static_cast<size_t>(threads_) * bodies_.size() * 9, 0.0);
 }
@@ -779,6 +928,19 @@ void RigidModule::interfacesD(Simulation& sim) {
   const std::int32_t* bondBody = bonds_ ? st.data(bondBody_) : nullptr;
   const std::int32_t* surf = st.data(surface_);
   if (bonds_) bodyPlacement<D>(sim);
+  const int S = plateSlots_;
+  const std::int32_t* plateSlot = S > 0 ? st.data(plateBond_) : nullptr;
+  const double* plateW = S > 0 ? st.data(plateWeight_) : nullptr;
+  if (!plateBonds_.empty()) plateBondDeltas<D>(sim);
+  // Solid particle j is tied to rigid body b (by its own bond or a plate's weighted bond): the
+  // bond replaces the A.18 contact between them, on both sides of the pair.
+  auto tiedTo = [&](Index j, int b) {
+    if (bondBody && bondBody[j] == b) return true;
+    if (plateSlot)
+      for (int q = 0; q < S && plateSlot[j * S + q] >= 0; ++q)
+        if (plateBonds_[static_cast<size_t>(plateSlot[j * S + q])].body == b) return true;
+    return false;
+  };
 
   auto isFluid = [&](Index i) {
     return ph[i] == kPhaseFluid && mats[static_cast<size_t>(mt[i])].fluid.valid();
@@ -817,10 +979,15 @@ void RigidModule::interfacesD(Simulation& sim) {
         Vec<D> dvec;
         f += bondForce<D>(sim, i, x, mt, dvec);
       }
+      // plate bonds: K delta c_a n of every plate the particle is tied to
+      for (int q = 0; plateSlot && q < S && plateSlot[i * S + q] >= 0; ++q) {
+        const PlateBond& P = plateBonds_[static_cast<size_t>(plateSlot[i * S + q])];
+        for (int c = 0; c < D; ++c) f[c] += P.stiffness * P.delta * plateW[i * S + q] * P.n[c];
+      }
       for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
         const Index j = nl.index[static_cast<size_t>(k)];
         if (ph[j] != kPhaseRigid) continue;
-        if (body[j] == bonded) continue;  // the bond replaces the contact with its own body
+        if (tiedTo(i, body[j])) continue;  // the bond replaces the contact with its body
         Vec<D> r;
         for (int c = 0; c < D; ++c) r[c] = x[i * D + c] - x[j * D + c];
         const double dist = r.norm();
@@ -842,6 +1009,7 @@ void RigidModule::interfacesD(Simulation& sim) {
           continue;
         }
         if (phj == kPhaseRigid && body[j] == body[i]) continue;  // same body: no force
+        if (phj == kPhaseSolid && tiedTo(j, body[i])) continue;  // bonded: as on the solid side
         Vec<D> r;
         for (int c = 0; c < D; ++c) r[c] = x[i * D + c] - x[j * D + c];
         const double dist = r.norm();
@@ -963,6 +1131,8 @@ void RigidModule::constraintsD(Simulation& sim) {
       }
     }
     const double M = B.state.mass;
+    for (const PlateBond& P : plateBonds_)  // reaction of a plate's weighted bond: -K delta n
+      if (P.body == static_cast<int>(b)) F -= P.stiffness * P.delta * P.n;
     shift[b] = mr / M;  // current centre of mass - X
     T -= shift[b].cross(F);  // torque about the current centre of mass
     for (int a = 0; a < D; ++a) F[a] += M * gravity_[static_cast<size_t>(a)];

@@ -28,6 +28,9 @@
 //   rigid-solid of a `bonded` body: the solid particles of the first layer (a body particle
 //                within 1.5 dx at the start) are bonded to anchor points fixed in the body frame
 //                (A.6 in tension and shear too); the bond replaces the repulsion for that body.
+//   rigid-solid of a `bonded: slip` plate: one bond per plate along its normal to the
+//                consistent-load-weighted mean of the solid within two supports (PlateBond);
+//                it replaces the repulsion between the plate and those particles.
 //
 // Constraints (material keys): fixed bodies, translation along chosen axes only, no rotation,
 // and force-controlled plates (a plate pushed along `direction` by stress x area that moves to
@@ -62,9 +65,10 @@ struct RigidMaterial {
   /// solid particle of the first layer around the body is held to its anchor point, fixed in the
   /// body frame, by a zero-length spring (see RigidModule::bondForce).
   bool bonded = false;
-  /// Plates only (`bonded: slip`): the bond acts along the plate's direction only, so the bonded
-  /// face slides freely along the plate (a frictionless flat contact without the corrugation of
-  /// the particle-particle repulsion).
+  /// Plates only (`bonded: slip`): the plate is tied along its direction to the consistent-load-
+  /// weighted mean displacement of the solid within two kernel supports of its face (one bond per
+  /// plate, RigidModule::PlateBond): the face slides freely along the plate (frictionless, no
+  /// corrugation) and the load enters as the consistent nodal load of a uniform stress (2.76).
   bool bondSlip = false;
   std::string where;  ///< "file:line: materials[k]" for messages
 };
@@ -117,6 +121,23 @@ class RigidModule : public Module {
 
   // ---- for tests and tools ----
   const std::vector<RigidBody>& bodies() const { return bodies_; }
+  /// Weighted bond of a `bonded: slip` plate (A.6 along the plate's normal n, A.17 stiffness):
+  /// delta = n . u_plate - sum_a c_a n . u_a over the solid particles a within two kernel
+  /// supports of the plate, c_a = n . s_a / sum_a n . s_a with s_a the consistent nodal load of a
+  /// uniform unit stress (libcore/consistent_load.hpp, Eq. 2.76); energy K delta^2 / 2: force
+  /// K delta c_a n on each particle a and -K delta n on the plate (sum c_a = 1: action =
+  /// reaction). For a linear displacement field sum c_a n . u_a is the displacement of the
+  /// body's surface itself, and the plate's load spread as c_a is the one that holds a uniform
+  /// stress in exact discrete equilibrium.
+  struct PlateBond {
+    int body = -1;
+    rigid::V3 n = rigid::V3::Zero();
+    double stiffness = 0.0;  ///< K = 2 k A / dx (the per-particle bonds of the face, summed)
+    double loadArea = 0.0;   ///< sum_a n . s_a: the face's discrete area (compare with `area`)
+    Index particles = 0;     ///< solid particles tied to the plate
+    double delta = 0.0;      ///< of the last evaluation
+  };
+  const std::vector<PlateBond>& plateBonds() const { return plateBonds_; }
   /// Body particles within one kernel support of their body's surface (App. A.2: only these take
   /// part in the pair sums; the others can meet no particle of another body or phase).
   Index surfaceParticles(const Simulation& sim) const;
@@ -133,6 +154,9 @@ class RigidModule : public Module {
   template <int D> void constraintsD(Simulation& sim);
   template <int D> void placeD(Simulation& sim, int onlyBody);
   void initialiseBonds(Simulation& sim);
+  template <int D> void initialisePlateBonds(Simulation& sim);
+  /// delta of every plate bond at the current positions (interfaces(), after bodyPlacement()).
+  template <int D> void plateBondDeltas(const Simulation& sim);
   void findSurface(Simulation& sim);
   /// Force of its bond on solid particle i (zero-length spring to its anchor point, which moves
   /// with the body: f = -K (x_i - X - R r_anchor), minimal image across periodic faces); the body
@@ -166,6 +190,12 @@ class RigidModule : public Module {
   /// rigid placement). The bonds' anchors move with them.
   template <int D> void bodyPlacement(const Simulation& sim);
   double maxBondModulus_ = 0.0;  // largest bond modulus (time step)
+  // `bonded: slip` plates: per solid particle up to 2 D plate-bond slots (index into
+  // plateBonds_, -1: none) with their weight c_a, and the particle's initial position.
+  std::vector<PlateBond> plateBonds_;
+  int plateSlots_ = 0;
+  IntField plateBond_;
+  RealField plateWeight_, plateOrigin_;
   RealField pressure_, wallVelocity_, viscousFactor_, densityRate_;
   bool fluidPairs_ = false;
   std::vector<double> solidModulus_;  // by material id: rho0 c^2 of solid materials (A.17)

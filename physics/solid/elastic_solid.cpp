@@ -12,6 +12,7 @@
 
 #include "libcore/phases.hpp"
 #include "libcore/simulation.hpp"
+#include "libcore/consistent_load.hpp"
 #include "libcore/corrections.hpp"
 
 namespace poresph::solid {
@@ -607,6 +608,11 @@ void ElasticSolidModule::initialiseDim(Simulation& sim) {
   // outwards).
   double* f = s.data(bcForce_);
   std::memset(f, 0, sizeof(double) * static_cast<size_t>(n * D));
+  // s_a = V_a sum_b V_b (g_ab - g_ba) (libcore/consistent_load.hpp, Eq. 2.76), where needed.
+  std::vector<double> unitLoad;
+  if (std::any_of(boundaries_.begin(), boundaries_.end(),
+                  [](const Boundary& B) { return B.type == BoundaryType::Pressure; }))
+    unitLoad = consistentLoadVectors<D>(W, sim.domain, Xm.data(), Vm.data(), nm);
   for (Index k = 0; k < nm; ++k) {
     const Index i = mine[static_cast<size_t>(k)];
     if (bc[i] == 0) continue;
@@ -622,13 +628,7 @@ void ElasticSolidModule::initialiseDim(Simulation& sim) {
       // support of a free surface; selecting the particles within one support of the loaded
       // surface applies the pressure there, and a body under uniform pressure on all its
       // surfaces is then in exact discrete equilibrium.
-      Vec<D> g = Vec<D>::Zero();
-      for (auto p = ref.offset[static_cast<size_t>(k)]; p < ref.offset[static_cast<size_t>(k) + 1];
-           ++p) {
-        const Index kj = origin[static_cast<size_t>(ref.index[static_cast<size_t>(p)])];
-        g += volume(mine[static_cast<size_t>(kj)]) * (forward(k, p) - backward(k, p));
-      }
-      force = B.pressure * volume(i) * g;
+      force = B.pressure * Eigen::Map<const Vec<D>>(unitLoad.data() + k * D);
     }
     for (int a = 0; a < D; ++a) f[i * D + a] = force[a];
   }

@@ -32,7 +32,24 @@ struct PlatesResult {
   double seconds = 0.0;
   double faceU = 0.0;          // mean inward displacement of the x face rows (m)
   double interiorStrain = 0.0;  // slope du_x/dX over the interior
+  // Against the finite-strain closed form of the model's own law (Saint Venant-Kirchhoff, TL):
+  double uSvk = 0.0;          // plate displacement (m)
+  double worstUSvk = 0.0;     // worst |u - uSvk| / uSvk
+  double worstSvk = 0.0;      // worst interior |sigma_ii + s / stretch| / (s / stretch) (Cauchy)
+  double loadArea = 0.0;      // worst |sum n . s_a / area - 1| of the weighted plate bonds
 };
+
+/// Stretch of a Saint Venant-Kirchhoff block under an equal nominal compression s along `axes`
+/// (2: biaxial plane strain, 3: hydrostatic): P = stretch S, S = (axes lambda + 2 mu) E along
+/// each loaded axis with E = (stretch^2 - 1) / 2, so (axes lambda + 2 mu) / 2 stretch (stretch^2
+/// - 1) = -s (Newton from the small-strain value). The Cauchy stress is then -s / stretch in
+/// plane strain (a face's length shrinks by the stretch) and -s / stretch^2 in 3D.
+inline double svkStretch(double s, double lambda, double mu, int axes) {
+  const double c = 0.5 * (axes * lambda + 2.0 * mu);
+  double l = 1.0 - s / (2.0 * c);
+  for (int it = 0; it < 50; ++it) l -= (c * l * (l * l - 1.0) + s) / (c * (3.0 * l * l - 1.0));
+  return l;
+}
 
 /// The block L = 20 mm across with n particles, plates 2 dx thick.
 /// load: "plates" (4 force-controlled plates), "traction" (the solid's traction boundaries on the
@@ -147,13 +164,123 @@ inline PlatesResult runPlates(int n, const std::string& formulation, double hour
       out.worstForce = std::max(out.worstForce, std::abs(value + sigma * L) / (sigma * L));
     }
   }
+  {
+    const double stretch = svkStretch(sigma, lambda, mu, 2);
+    out.uSvk = (1.0 - stretch) * L / 2.0;
+    for (const auto& [name, value] : sim.diagnostics())
+      if (name.rfind("plate", 0) == 0 && name.find("_displacement") != std::string::npos)
+        out.worstUSvk = std::max(out.worstUSvk, std::abs(value - out.uSvk) / out.uSvk);
+    if (!plates) out.worstUSvk = std::abs(out.faceU - out.uSvk) / out.uSvk;
+    const double cauchy = sigma / stretch;
+    for (Index i = 0; i < st.realCount(); ++i) {
+      if (st.data(st.phase())[i] != kPhaseSolid) continue;
+      const Vec<2> X = st.vec<2>(ref, i);
+      if (std::min(std::min(X[0], L - X[0]), std::min(X[1], L - X[1])) < 4 * 0.001) continue;
+      const Mat<2> S = st.mat<2>(stress, i);
+      out.worstSvk = std::max({out.worstSvk, std::abs(S(0, 0) + cauchy) / cauchy,
+                               std::abs(S(1, 1) + cauchy) / cauchy});
+    }
+    if (rigid)
+      for (const auto& P : rigid->plateBonds())
+        out.loadArea = std::max(out.loadArea, std::abs(P.loadArea / L - 1.0));
+  }
   out.seconds = clock.seconds();
+  std::printf("  against the SVK closed form: plate displacement %.5e m, worst %.3f %%; interior "
+              "stress worst %.3f %%; weighted bonds' load area %.2e off\n",
+              out.uSvk, 100 * out.worstUSvk, 100 * out.worstSvk, out.loadArea);
   std::printf("  %s: %d across, %s, hourglass %g: t = %.4f s (%lld steps): mean stress %.2f %% off, "
               "worst interior %.2f %% (%d particles); plate displacement mean %.5e m, closed form "
               "%.5e m, worst %.2f %%; plate force %.1e; interior strain %.5e (closed form %.5e); x face rows moved %.5e m; %.1f s\n",
               load.c_str(), n, formulation.c_str(), hourglass, sim.time, static_cast<long long>(sim.step),
               100 * out.meanErr, 100 * out.worst, interior, out.meanU, out.uExact,
               100 * out.worstU, out.worstForce, out.interiorStrain, -sigma / (2 * (lambda + mu)), out.faceU, out.seconds);
+  return out;
+}
+
+/// The 3D case: a cube L = 20 mm across with n particles per edge, squeezed by six `bonded:
+/// slip` plates (2 dx thick, one per face) at s = 1e4 Pa; TL clay. Closed forms: hydrostatic
+/// small strain u = s L / (2 (3 lambda + 2 mu)), and the SVK stretch of svkStretch(..., 3).
+inline PlatesResult runPlates3D(int n, double hourglass) {
+  test::Stopwatch clock;
+  const double L = 0.02, dx = L / n, t = 2 * dx;
+  std::ostringstream y;
+  y.precision(10);
+  y << "dimension: 3\n"
+    << "domain: {lo: [-0.01, -0.01, -0.01], hi: [0.03, 0.03, 0.03]}\n"
+    << "spacing: " << dx << "\n"
+    << "kernel: wendland_c2\nend_time: 0.012\ntime_step: {adaptive: true, cfl: 0.5}\n"
+    << "output: {every_steps: 100000000}\nmaterials:\n"
+    << "  - {name: clay, model: elastic, density: 2000, young_modulus: 1.0e6, poisson_ratio: 0.25, "
+       "formulation: total_lagrangian, damping: 3000"
+    << (hourglass > 0 ? ", hourglass: " + std::to_string(hourglass) : std::string()) << "}\n";
+  const char* names[6] = {"xlo", "xhi", "ylo", "yhi", "zlo", "zhi"};
+  const char* dirs[6] = {"[1, 0, 0]", "[-1, 0, 0]", "[0, 1, 0]", "[0, -1, 0]", "[0, 0, 1]", "[0, 0, -1]"};
+  for (int k = 0; k < 6; ++k)
+    y << "  - {name: " << names[k] << ", model: rigid, density: 2000, contact_modulus: 5.0e7, "
+      << "bonded: slip, damping: 3000, plate: {direction: " << dirs[k]
+      << ", stress: 1.0e4, area: " << L * L << "}}\n";
+  y << "geometry:\n  - {shape: box, lo: [0.0, 0.0, 0.0], hi: [0.02, 0.02, 0.02], material: clay}\n";
+  for (int k = 0; k < 6; ++k) {
+    const int axis = k / 2;
+    double lo[3] = {0, 0, 0}, hi[3] = {L, L, L};
+    if (k % 2 == 0) { lo[axis] = -t; hi[axis] = 0.0; } else { lo[axis] = L; hi[axis] = L + t; }
+    y << "  - {shape: box, lo: [" << lo[0] << ", " << lo[1] << ", " << lo[2] << "], hi: [" << hi[0]
+      << ", " << hi[1] << ", " << hi[2] << "], material: " << names[k] << "}\n";
+  }
+  Scene s = loadSceneText(y.str(), "rigid_plates_3d.yaml");
+  Simulation& sim = *s.sim;
+  auto* rigid = dynamic_cast<RigidModule*>(sim.module("rigid"));
+  EXPECT_NE(rigid, nullptr);
+  auto integrator = makeIntegrator("leapfrog");
+  while (!s.finished()) integrator->step(sim, s.nextTimeStep());
+  const double sigma = 1.0e4, E = 1.0e6, nu = 0.25;
+  const double lambda = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
+  PlatesResult out;
+  out.uExact = sigma * L / (2.0 * (3.0 * lambda + 2.0 * mu));
+  const double stretch = svkStretch(sigma, lambda, mu, 3);
+  out.uSvk = (1.0 - stretch) * L / 2.0;
+  const double cauchy = sigma / (stretch * stretch);  // the face's area shrinks by stretch^2
+  const ParticleStore& st = sim.store;
+  const RealField stress = st.real("stress");
+  const RealField ref = st.real("reference_position");
+  double mean[3] = {0, 0, 0};
+  int count = 0, interior = 0;
+  for (Index i = 0; i < st.realCount(); ++i) {
+    if (st.data(st.phase())[i] != kPhaseSolid) continue;
+    const Mat<3> S = st.mat<3>(stress, i);
+    for (int a = 0; a < 3; ++a) mean[a] += S(a, a);
+    ++count;
+    const Vec<3> X = st.vec<3>(ref, i);
+    double edge = L;
+    for (int a = 0; a < 3; ++a) edge = std::min({edge, X[a], L - X[a]});
+    if (edge < 4 * 0.001) continue;
+    ++interior;
+    for (int a = 0; a < 3; ++a) {
+      out.worst = std::max(out.worst, std::abs(S(a, a) + sigma) / sigma);
+      out.worstSvk = std::max(out.worstSvk, std::abs(S(a, a) + cauchy) / cauchy);
+    }
+  }
+  for (int a = 0; a < 3; ++a) out.meanErr = std::max(out.meanErr, std::abs(mean[a] / count + sigma) / sigma);
+  for (const auto& [name, value] : sim.diagnostics()) {
+    if (name.rfind("plate", 0) != 0) continue;
+    if (name.find("_displacement") != std::string::npos) {
+      out.worstU = std::max(out.worstU, std::abs(value - out.uExact) / out.uExact);
+      out.worstUSvk = std::max(out.worstUSvk, std::abs(value - out.uSvk) / out.uSvk);
+      out.meanU += value / 6.0;
+    } else if (name.find("_force") != std::string::npos) {
+      out.worstForce = std::max(out.worstForce, std::abs(value + sigma * L * L) / (sigma * L * L));
+    }
+  }
+  for (const auto& P : rigid->plateBonds())
+    out.loadArea = std::max(out.loadArea, std::abs(P.loadArea / (L * L) - 1.0));
+  out.seconds = clock.seconds();
+  std::printf("  3D slip: %d across, hourglass %g: t = %.4f s (%lld steps): mean stress %.2f %% off, "
+              "worst interior %.2f %% (%d particles); plate displacement mean %.5e m, closed form "
+              "%.5e m, worst %.2f %%; SVK closed form %.5e m, worst %.3f %%, interior stress vs "
+              "SVK worst %.3f %%; plate force %.1e; load area %.2e off; %.1f s\n",
+              n, hourglass, sim.time, static_cast<long long>(sim.step), 100 * out.meanErr,
+              100 * out.worst, interior, out.meanU, out.uExact, 100 * out.worstU, out.uSvk,
+              100 * out.worstUSvk, 100 * out.worstSvk, out.worstForce, out.loadArea, out.seconds);
   return out;
 }
 
