@@ -168,7 +168,7 @@ Scene buildScene(const YAML::Node& root, const std::string& file, const SceneOpt
     res["neighbour_skin"] = num(sim.neighbourSkin / sim.spacing);
   }
   // Full or half neighbour list (Simulation::chooseNeighbourList once the modules are known).
-  const std::string listChoice = top.choice("neighbour_list", "full", {"full", "half", "auto"});
+  const std::string listChoice = top.choice("neighbour_list", "auto", {"full", "half", "auto"});
   sim.neighbourListChoice = listChoice == "half"   ? Simulation::NeighbourListChoice::Half
                             : listChoice == "auto" ? Simulation::NeighbourListChoice::Auto
                                                    : Simulation::NeighbourListChoice::Full;

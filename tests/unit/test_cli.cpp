@@ -143,7 +143,9 @@ TEST_F(Cli, BadSceneExitsWithCode2NamingFileKeyAndValue) {
 }
 
 TEST_F(Cli, InfoDescribesTheScene) {
-  const fs::path scene = writeScene("info.yaml", kScene);
+  // The full neighbour list (the default is a half list for fluid-only scenes, whose mean
+  // counts each pair of real particles once: tests/unit/test_half_neighbour_list.cpp).
+  const fs::path scene = writeScene("info.yaml", std::string(kScene) + "neighbour_list: full\n");
   const Result r = runPoresph("info \"" + scene.string() + "\" --threads 1");
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_NE(r.output.find("dimension:    2"), std::string::npos) << r.output;

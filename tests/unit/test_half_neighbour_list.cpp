@@ -12,7 +12,7 @@
 //    and a coarse 3D case A run equal the full-list runs to 1e-12 relative in positions after
 //    100-150 steps, run on 3 threads (spills exercised);
 //  - the scene key: half with surface tension is refused naming the key and the module; auto
-//    picks half only when every module supports it.
+//    (the default) picks half only when every module supports it.
 #include <gtest/gtest.h>
 #include <omp.h>
 
@@ -24,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "libcore/memory.hpp"
 #include "libcore/neighbour_search.hpp"
 #include "libcore/pair_scatter.hpp"
 #include "libcore/runner.hpp"
@@ -468,12 +469,34 @@ TEST(HalfNeighbourList, RatesEqualTheFullListsAndALostPairIsSeen) {
 TEST(HalfNeighbourList, SceneKey) {
   const fsys::path dir = fsys::path(PORESPH_BINARY_DIR) / "test-half-neighbour-list";
   fsys::create_directories(dir);
-  // Default: full.
+  // Default: auto (half for this fluid-only scene).
   {
     std::string t = damBreak2D("full", 0);
     t.replace(t.find("neighbour_list: full\n"), 21, "");
     Scene s = loadSceneText(t, (dir / "default.yaml").string());
+    EXPECT_TRUE(s.sim->halfNeighbourList);
+  }
+  // Explicit full.
+  {
+    Scene s = loadSceneText(damBreak2D("full", 0), (dir / "full.yaml").string());
     EXPECT_FALSE(s.sim->halfNeighbourList);
+  }
+  // The memory estimate before any particle exists counts half the entries of a half list.
+  {
+    SceneOptions opt;
+    opt.initialise = false;
+    std::string t = damBreak2D("half", 0);
+    t.replace(t.find("neighbour_skin: 0.3\n"), 20, "");
+    Scene h = loadSceneText(t, (dir / "estimate_half.yaml").string(), opt);
+    t.replace(t.find("neighbour_list: half"), 20, "neighbour_list: full");
+    Scene f = loadSceneText(t, (dir / "estimate_full.yaml").string(), opt);
+    double listHalf = -1.0, listFull = -1.0;
+    for (const auto& l : memoryReport(*h.sim, 1000, 20.0).lines)
+      if (l.what == "neighbour list") listHalf = l.bytesPerParticle;
+    for (const auto& l : memoryReport(*f.sim, 1000, 20.0).lines)
+      if (l.what == "neighbour list") listFull = l.bytesPerParticle;
+    EXPECT_DOUBLE_EQ(listHalf, 10.0 * 4.0 + 8.0);
+    EXPECT_DOUBLE_EQ(listFull, 20.0 * 4.0 + 8.0);
   }
   // auto on a fluid-only scene without surface tension: half.
   {
