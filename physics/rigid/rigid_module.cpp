@@ -468,6 +468,7 @@ void RigidModule::initialisePlateBonds(Simulation& sim) {
   // two supports from the plane but further from the plate's particles.
   const double reach = 2.0 * sim.kernel.support();
   const Domain& dom = sim.domain;
+  std::vector<std::vector<std::pair<Index, double>>> plateMembers;  // (particle, n . s_a)
   for (size_t b = 0; b < bodies_.size(); ++b) {
     const RigidMaterial& rm = *materialOf(bodies_[b].material);
     if (!rm.bondSlip) continue;
@@ -487,7 +488,6 @@ void RigidModule::initialisePlateBonds(Simulation& sim) {
       lo = lo.cwiseMin(lat);
       hi = hi.cwiseMax(lat);
     }
-    const int pb = static_cast<int>(plateBonds_.size());
     std::vector<std::pair<Index, double>> members;  // (particle, n . s_a)
     double total = 0.0, kmax = rm.contactModulus;
     for (Index k = 0; k < ns; ++k) {
@@ -507,34 +507,47 @@ void RigidModule::initialisePlateBonds(Simulation& sim) {
       total += ns_a;
       kmax = std::max(kmax, solidModulus_[static_cast<size_t>(mt[i])]);
     }
-    if (members.empty() || !(std::abs(total) > 0.0))
-      throw InputError("rigid: plate body " + std::to_string(b) + " of material '" + rm.name +
-                       "' has `bonded: slip` but no elastic solid surface within two kernel "
-                       "supports (" + fmtNum(reach) + " m) of it; place the plate against the "
-                       "solid or drop `bonded` in " + rm.where);
-    for (const auto& [i, c] : members) {
-      int q = 0;
-      while (q < S && slot[i * S + q] >= 0) ++q;
-      if (q == S)
-        throw InputError("rigid: a solid particle lies within two kernel supports of more than " +
-                         std::to_string(S) + " `bonded: slip` plates (plate material '" + rm.name +
-                         "', " + rm.where + "): the sample is too thin for its plates");
-      for (int o = 0; o < q; ++o)  // opposite plates' loads would mix in s_a
-        if (plateBonds_[static_cast<size_t>(slot[i * S + o])].n.dot(P.n) < -0.5)
-          throw InputError("rigid: `bonded: slip` plate material '" + rm.name + "' (" + rm.where +
-                           ") and the plate opposite it are less than four kernel supports (" +
-                           fmtNum(2.0 * reach) + " m) apart: their consistent loads overlap in "
-                           "the solid between them; use a thicker sample or a smaller spacing");
-      slot[i * S + q] = pb;
-      weight[i * S + q] = c / total;
-    }
-    P.loadArea = std::abs(total);
+    P.loadArea = total;
     P.particles = static_cast<Index>(members.size());
     // The per-particle bonds of the face summed: 2 k dx^(D-2) per particle of area dx^(D-1)
     // (the half layer between the face row and the plate, A.17).
     P.stiffness = 2.0 * kmax * rm.plateArea / sim.spacing;
     maxBondModulus_ = std::max(maxBondModulus_, kmax);
     plateBonds_.push_back(P);
+    plateMembers.push_back(std::move(members));
+  }
+  // Opposite plates closer than four supports: their consistent loads would mix in s_a.
+  for (size_t p = 0; p < plateBonds_.size(); ++p) {
+    const RigidMaterial& rm = *materialOf(bodies_[static_cast<size_t>(plateBonds_[p].body)].material);
+    for (const auto& [i, c] : plateMembers[p]) {
+      (void)c;
+      for (int q = 0; q < S && slot[i * S + q] >= 0; ++q)
+        if (plateBonds_[static_cast<size_t>(slot[i * S + q])].n.dot(plateBonds_[p].n) < -0.5)
+          throw InputError("rigid: `bonded: slip` plate material '" + rm.name + "' (" + rm.where +
+                           ") and the plate opposite it are less than four kernel supports (" +
+                           fmtNum(2.0 * reach) + " m) apart: their consistent loads overlap in "
+                           "the solid between them; use a thicker sample or a smaller spacing");
+      int q = 0;
+      while (q < S && slot[i * S + q] >= 0) ++q;
+      if (q == S)
+        throw InputError("rigid: a solid particle lies within two kernel supports of more than " +
+                         std::to_string(S) + " `bonded: slip` plates (plate material '" + rm.name +
+                         "', " + rm.where + "): the sample is too thin for its plates");
+      slot[i * S + q] = static_cast<int>(p);
+    }
+  }
+  for (size_t p = 0; p < plateBonds_.size(); ++p) {
+    PlateBond& P = plateBonds_[p];
+    const RigidMaterial& rm = *materialOf(bodies_[static_cast<size_t>(P.body)].material);
+    if (plateMembers[p].empty() || !(std::abs(P.loadArea) > 0.0))
+      throw InputError("rigid: plate body " + std::to_string(P.body) + " of material '" + rm.name +
+                       "' has `bonded: slip` but no elastic solid surface within two kernel "
+                       "supports (" + fmtNum(reach) + " m) of it; place the plate against the "
+                       "solid or drop `bonded` in " + rm.where);
+    for (const auto& [i, c] : plateMembers[p])
+      for (int q = 0; q < S; ++q)
+        if (slot[i * S + q] == static_cast<int>(p)) weight[i * S + q] = c / P.loadArea;
+    P.loadArea = std::abs(P.loadArea);
   }
 }
 

@@ -90,6 +90,26 @@ TEST(Rigid, RefusesBadBodiesWithClearMessages) {
   e = errorOf(scene2d("{name: grain, model: rigid, density: 2000, spin: 3}",
                       "  - {shape: box, lo: [0.1, 0.1], hi: [0.3, 0.4], material: grain}\n"));
   EXPECT_NE(e.find("spin"), std::string::npos) << e;
+  // `bonded: slip` plates: one with no solid within two supports, and two opposite plates whose
+  // consistent loads would overlap in a clay strip thinner than four supports.
+  const std::string clay = "  - {name: clay, model: elastic, density: 2000, young_modulus: 1.0e6, "
+                           "poisson_ratio: 0.25}\n";
+  const std::string plate = "model: rigid, density: 2000, bonded: slip, plate: {stress: 1, area: 0.4, ";
+  const std::string head = "dimension: 2\ndomain: {lo: [0, 0], hi: [1, 1]}\nspacing: 0.1\nend_time: 1\n"
+                           "time_step: {dt: 1.0e-3}\noutput: {every_steps: 100}\nmaterials:\n";
+  e = errorOf(head + clay + "  - {name: far, " + plate + "direction: [1, 0]}}\ngeometry:\n"
+              "  - {shape: box, lo: [0.8, 0.0], hi: [1.0, 0.2], material: clay}\n"
+              "  - {shape: box, lo: [0.0, 0.6], hi: [0.2, 1.0], material: far}\n", "far.yaml");
+  EXPECT_NE(e.find("'far'"), std::string::npos) << e;
+  EXPECT_NE(e.find("far.yaml"), std::string::npos) << e;
+  EXPECT_NE(e.find("no elastic solid surface"), std::string::npos) << e;
+  e = errorOf(head + clay + "  - {name: west, " + plate + "direction: [1, 0]}}\n"
+              "  - {name: east, " + plate + "direction: [-1, 0]}}\ngeometry:\n"
+              "  - {shape: box, lo: [0.3, 0.3], hi: [0.7, 0.7], material: clay}\n"
+              "  - {shape: box, lo: [0.1, 0.3], hi: [0.3, 0.7], material: west}\n"
+              "  - {shape: box, lo: [0.7, 0.3], hi: [0.9, 0.7], material: east}\n", "thin.yaml");
+  EXPECT_NE(e.find("four kernel supports"), std::string::npos) << e;
+  EXPECT_NE(e.find("thin.yaml"), std::string::npos) << e;
 }
 
 TEST(Rigid, SymmetricRepulsionIsActionEqualsReaction) {
