@@ -2,6 +2,7 @@
 // the damage D (thesis Sec. 4.1.2 and 4.1.5, Fig. 4.4) and the damage energies (4.25-4.26b).
 // The laws themselves are in constitutive_law.hpp; the stress that uses D is computed in
 // ElasticSolidModule::constitutive (elastic_solid.cpp).
+#include <array>
 #include <cmath>
 
 #include "libcore/simulation.hpp"
@@ -15,6 +16,11 @@ namespace poresph::solid {
 // the last evaluation (their strain needs the current neighbour correction, rebuilt at the next
 // evaluation). The energy released at fixed strain, (g(D^n) - g(D^{n+1})) psi+, is added to the
 // particle's dissipation, so elastic + released energy is continuous across the commit.
+// With the conservative hourglass control (TL) the penalty stiffness of a particle's pairs is
+// degraded by the same g(D) (hourglassPairStiffness): the penalty energy that the commit removes,
+// 1/4 alpha_a E_a (g(D^n) - g(D^{n+1})) sum_b V_b W0_ab |r_ab|^2 / |X_ab|^2 per unit volume of a
+// (r_ab = x_ab - (F_a + F_b)/2 X_ab at x^{n+1}; half of each pair's energy 1/2 c_ab |r_ab|^2
+// changes with a's share), is released with it (docs/damage.md "Hourglass control under damage").
 void ElasticSolidModule::endOfStep(Simulation& sim, double /*dt*/) {
   if (!anyDamage_) return;
   if (formulation_ == Formulation::TotalLagrangian) kinematics(sim);  // F at x^{n+1} (2.67)
@@ -33,6 +39,20 @@ void ElasticSolidModule::commitDamageDim(Simulation& sim) {
   const bool tl = formulation_ == Formulation::TotalLagrangian;
   const double* F = tl ? s.data(defGrad_) : nullptr;
   long clipped = 0;
+  // conservative hourglass control: the family and reference positions for the released penalty
+  const bool hg = tl && anyHourglass_ && hourglassConservative_;
+  const double* x = s.data(s.position());
+  const double* m = s.data(s.mass());
+  const double* X = tl ? s.data(refPos_) : nullptr;
+  const std::int32_t* row = tl ? s.data(familyRow_) : nullptr;
+  const Kernel& W = solidKernel(sim);
+  const std::array<double, 3> L = period_;
+  auto minimumImage = [&](Vec<D> d) {
+    for (int a = 0; a < D; ++a)
+      if (L[static_cast<size_t>(a)] > 0.0)
+        d[a] -= L[static_cast<size_t>(a)] * std::round(d[a] / L[static_cast<size_t>(a)]);
+    return d;
+  };
 #pragma omp parallel for schedule(static) reduction(+ : clipped) if (n > 512)
   for (Index i = 0; i < n; ++i) {
     const int k = slotOf(mat[i]);
@@ -49,9 +69,28 @@ void ElasticSolidModule::commitDamageDim(Simulation& sim) {
     }
     double local[kDamageHistory] = {0.0, 0.0};
     double* h = hist ? hist + i * kDamageHistory : local;
-    const DamageUpdate u = law.update<D>(E, dmg[i], h);
+    const double d0 = dmg[i];
+    const DamageUpdate u = law.update<D>(E, d0, h);
     dmg[i] = u.D;
     rel[i] += u.released;
+    const ElasticMaterial& e = mats_[static_cast<size_t>(k)];
+    if (hg && e.hourglass > 0.0 && u.D > d0) {
+      const Mat<D> Fi = Eigen::Map<const Mat<D>>(F + i * D * D);
+      const Vec<D> Xi = Eigen::Map<const Vec<D>>(X + i * D);
+      const Vec<D> xi = Eigen::Map<const Vec<D>>(x + i * D);
+      double sum = 0.0;
+      for (std::int64_t q = famOffset_[static_cast<size_t>(row[i])];
+           q < famOffset_[static_cast<size_t>(row[i]) + 1]; ++q) {
+        const Index j = idToIndex_[static_cast<size_t>(famIds_[static_cast<size_t>(q)])];
+        const ElasticMaterial& ej = mats_[static_cast<size_t>(slotOf(mat[j]))];
+        const Vec<D> Xji = minimumImage(Vec<D>(Eigen::Map<const Vec<D>>(X + j * D) - Xi));
+        const Vec<D> xji = minimumImage(Vec<D>(Eigen::Map<const Vec<D>>(x + j * D) - xi));
+        const double r0 = Xji.norm();
+        const Vec<D> res = xji - 0.5 * (Fi + Eigen::Map<const Mat<D>>(F + j * D * D)) * Xji;
+        sum += (m[j] / ej.density) * W.value(r0) / (r0 * r0) * res.squaredNorm();
+      }
+      rel[i] += 0.25 * e.hourglass * e.young * (law.g(d0) - law.g(u.D)) * sum;
+    }
     clipped += u.clipped ? 1 : 0;
   }
   clippedUpdates_ += clipped;

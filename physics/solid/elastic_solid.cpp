@@ -1032,6 +1032,9 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
   const double h = W.h();
   const double t = sim.time;
   auto isMine = [&](Index j) { return phase[j] == kPhaseSolid && slotOf(mat[j]) >= 0; };
+  // degradation g(D) of a particle's share of the hourglass stiffness (1 without damage)
+  const double* dmg = damage_.valid() ? s.data(damage_) : nullptr;
+  auto gOf = [&](const ElasticMaterial& em, Index j) { return dmg ? em.law.g(dmg[j]) : 1.0; };
 
   // Monaghan's artificial viscosity, Eqs. 2.64-2.65: the acceleration term -m_b Pi_ab grad.
   auto viscosity = [&](const ElasticMaterial& ea, const ElasticMaterial& eb, const Vec<D>& vab,
@@ -1064,7 +1067,9 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
     };
     // Conservative hourglass control (docs/solid.md "Hourglass control"): the penalty energy
     //   Phi = 1/4 sum_a sum_b c_ab |r_ab|^2,  r_ab = x_ab - (F_a + F_b)/2 X_ab  (x_ab = x_b - x_a),
-    //   c_ab = k_ab V_a V_b W0_ab / |X_ab|^2,  k_ab = (hourglass_a E_a + hourglass_b E_b)/2,
+    //   c_ab = k_ab V_a V_b W0_ab / |X_ab|^2,  k_ab = (hourglass_a E_a g_a + hourglass_b E_b g_b)/2
+    // (g = g(D), frozen over the step: hourglassPairStiffness; the energy the commit releases
+    // from it is counted in damage.cpp),
     // vanishes for every linear and quadratic field. Its exact negative gradient is the direct
     // pair force sum_b c_ab r_ab plus, through the dependence of F_a on the family of a, the
     // momentum term of Eq. 2.76 with the stress -M_a/2 added to P_a,
@@ -1096,7 +1101,7 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
         for (std::int64_t q = off[row[i]]; q < off[row[i] + 1]; ++q) {
           const Index j = idToIndex_[static_cast<size_t>(fam[q])];
           const ElasticMaterial& ej = mats_[static_cast<size_t>(slotOf(mat[j]))];
-          const double kab = 0.5 * (e.hourglass * e.young + ej.hourglass * ej.young);
+          const double kab = hourglassPairStiffness(e, gOf(e, i), ej, gOf(ej, j));
           if (kab == 0.0) continue;
           const Vec<D> Xji = minimumImage(Vec<D>(Eigen::Map<const Vec<D>>(X + j * D) - Xi));
           const Vec<D> xji = minimumImage(Vec<D>(Eigen::Map<const Vec<D>>(x + j * D) - xi));
@@ -1148,7 +1153,7 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
         if (hgPairwise && e.hourglass > 0.0) {
           // Hourglass control (Ganzenmueller 2015): the part of the pair's current separation
           // that the particles' own F do not predict is pushed back along the pair, with a
-          // spring of stiffness hourglass * E * W0 / |X_ab|^2; zero for any linear field.
+          // spring of stiffness hourglass * E * g(D) * W0 / |X_ab|^2; zero for any linear field.
           const Vec<D> Xji = minimumImage(Vec<D>(Eigen::Map<const Vec<D>>(X + j * D) - Xi));
           const Vec<D> xji = minimumImage(Vec<D>(Eigen::Map<const Vec<D>>(x + j * D) - xi));
           const double dist = xji.norm();
@@ -1158,8 +1163,8 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
             const double dA = (Fi * Xji - xji).dot(ev);    // a's prediction error for b
             const double dB = (Fj * (-Xji) + xji).dot(-ev);  // b's prediction error for a
             const double r0 = Xji.norm();
-            const double coef = 0.5 * (e.hourglass * e.young + ej.hourglass * ej.young) * Vj *
-                                W.value(r0) / (r0 * r0);
+            const double coef =
+                hourglassPairStiffness(e, gOf(e, i), ej, gOf(ej, j)) * Vj * W.value(r0) / (r0 * r0);
             fhg.noalias() -= coef * 0.5 * (dA + dB) * ev;
           }
         }

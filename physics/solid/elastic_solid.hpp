@@ -190,6 +190,14 @@ class ElasticSolidModule : public Module {
   template <int D> void commitDamageDim(Simulation& sim);
   void rebuildIdMap(const Simulation& sim);
   template <int D> void applyMirrors(Simulation& sim);
+  /// Stiffness of the hourglass penalty of the pair (a, b): (alpha_a E_a g(D_a) + alpha_b E_b
+  /// g(D_b)) / 2, the degradation g of each law applied to its particle's share like the rest of
+  /// its stiffness (Eq. 4.17; g = 1 without damage). docs/damage.md "Hourglass control under
+  /// damage": with the undamaged E the penalty bridged the damaged bands and widened them.
+  static double hourglassPairStiffness(const ElasticMaterial& a, double ga, const ElasticMaterial& b,
+                                       double gb) {
+    return 0.5 * (a.hourglass * a.young * ga + b.hourglass * b.young * gb);
+  }
   int slotOf(std::int32_t material) const {
     return material >= 0 && static_cast<size_t>(material) < slot_.size()
                ? slot_[static_cast<size_t>(material)] : -1;
