@@ -17,7 +17,9 @@
 //
 // Fields colour, colour_gradient, curvature, interface exist only with surface_tension > 0.
 // Wetting (1.10): by default ("wetting: normal") the interface normal near a boundary is turned
-// to the contact angle given by the boundary's colour cos(theta); "wetting: colour" instead puts
+// to the contact angle given by the boundary's colour cos(theta), and (option wetting_ghost)
+// the boundary's ghost colour - the interface continued straight into the wall at that angle -
+// completes the magnitude |n| (the CSF delta) at the contact line; "wetting: colour" instead puts
 // the boundary colour into the sum of 5.7.
 //
 // Stages: kinematics = density summation (option), colour gradient (5.7), wetting normal and
@@ -153,6 +155,7 @@ class FluidModule : public Module {
   bool wallWetting_ = true;         // walls' colour cos(theta) enters 5.7 (1.10)
   bool wettingNormal_ = true;       // wetting: normal (prescribed contact-line normal near walls)
   double wettingScale_ = 0.15;      // wall Shepard fraction at which the normal is fully prescribed
+  bool wettingGhost_ = false;       // wetting_ghost: walls' ghost colour completes |n| at the contact line
   double densityDiffusion_ = 0.0;   // delta of the Molteni-Colagrossi term (0: off)
   bool normaliseViscosity_ = true;  // divide 5.4 by the discrete second moment
   double artificialViscosity_ = 0.0;  // alpha of Eq. 2.64 (0: off)

@@ -18,6 +18,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -37,9 +38,11 @@ struct TiltedSessile {
   Eigen::Vector2d P0, t, n;  // wall frame: origin, tangent, normal into the fluid
   int liquid = 0, gas = 1;
 
-  TiltedSessile(double thetaDeg, double alphaDeg, double radius, int rOverDx, const std::string& extra = "") {
+  TiltedSessile(double thetaDeg, double alphaDeg, double radius, int rOverDx, const std::string& extra = "",
+                double viscosity = 0.05, double halfWidth = 0.9) {
     namespace fs = poresph::fluidsetup;
     R0 = radius;
+    mu = viscosity;
     dx = R0 / rOverDx;
     alpha = alphaDeg * kPi / 180.0;
     t = Eigen::Vector2d(std::cos(alpha), std::sin(alpha));
@@ -72,7 +75,7 @@ struct TiltedSessile {
     const int lid = fs::addMaterial(sim, "lid", "wall", "{density: 1000, contact_angle: 180}");
     std::snprintf(buf, sizeof buf, "{surface_tension: %g%s}", gamma, extra.c_str());
     fluid = fs::addFluidModule(sim, buf);
-    const double a = 0.9 * R0, b = 0.5 * kPi * R0 * R0 / (2.0 * a);  // rectangle of the half disc's area
+    const double a = halfWidth * R0, b = 0.5 * kPi * R0 * R0 / (2.0 * a);  // rectangle of the half disc's area
     const Eigen::Vector2d P = P0;
     const Eigen::Vector2d T = t, N = n;
     auto frame = [P, T, N](const double* x, double& tt, double& ss) {
@@ -142,6 +145,33 @@ struct TiltedSessile {
     return std::acos(std::clamp(-sc / rc, -1.0, 1.0)) * 180.0 / kPi;
   }
 
+  /// Contact angle (degrees) of the circular cap with the liquid's area A = N dx^2 and height H
+  /// (highest liquid particle + dx/2 above the wall): A = r^2 (q - sin q cos q), H = r (1 - cos q),
+  /// so H^2 / A = (1 - cos q)^2 / (q - sin q cos q), monotone in q (bisection). Independent of the
+  /// circle fit (a check of the measurement itself).
+  double capAngle(double& height, double& area) const {
+    const auto& st = sim.store;
+    const double* x = st.data(st.position());
+    const std::int32_t* mt = st.data(st.material());
+    height = 0.0;
+    long long nl = 0;
+    for (Index i = 0; i < st.realCount(); ++i) {
+      if (mt[i] != liquid) continue;
+      ++nl;
+      const Eigen::Vector2d d(x[2 * i] - P0[0], x[2 * i + 1] - P0[1]);
+      height = std::max(height, d.dot(n) + 0.5 * dx);
+    }
+    area = static_cast<double>(nl) * dx * dx;
+    const double target = height * height / area;
+    auto g = [](double q) { return (1 - std::cos(q)) * (1 - std::cos(q)) / (q - std::sin(q) * std::cos(q)); };
+    double lo = 1e-3, hi = kPi - 1e-3;
+    for (int it = 0; it < 60; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      (g(mid) < target ? lo : hi) = mid;
+    }
+    return 0.5 * (lo + hi) * 180.0 / kPi;
+  }
+
   void dump(const std::string& name) const {
     const auto& st = sim.store;
     std::ofstream f(std::string(PORESPH_BINARY_DIR) + "/" + name);
@@ -189,6 +219,57 @@ inline WettingResult runTiltedSessile(double thetaDeg, double alphaDeg, int rdx,
                       std::abs(r.theta - thetaDeg) / thetaDeg, res, r.wall, "|error| < 5 degrees",
                       "prescribed wall angle, colour cos(theta) (Eq. 1.10), wetting: normal"});
   }
+  return r;
+}
+
+/// Sessile drop with its angle averaged over a window (issue 14 item 4, 30-150 degrees): the
+/// drop (rectangle start) runs to tEnd; the circle-fit angle is sampled every `every` seconds in
+/// [tEnd / 2, tEnd] and averaged (at Oh ~ 0.04 the drop still rocks by a few degrees about its
+/// equilibrium; one sample would read the phase of that motion). Also the cap angle (height and
+/// area) at the end, the extremes of the samples, and a dump of the end state.
+/// The one wetting setting validated for 30-150 degrees (issue 14 item 4; not the default, see
+/// docs/fluid.md "Contact angles 30 to 150 degrees"): prescribed normal, wetting_scale 0.05 and
+/// the walls' ghost colour in |n|.
+inline constexpr const char* kWettingGhostSettings = ", wetting: normal, wetting_scale: 0.05, wetting_ghost: true";
+
+struct WettingAverage {
+  double mean = 0, lo = 1e300, hi = -1e300, cap = 0, wall = 0, cpu = 0;
+  int samples = 0;
+  long long steps = 0, particles = 0;
+};
+
+inline WettingAverage runWettingAverage(double thetaDeg, double alphaDeg, int rdx, double tEnd, double viscosity,
+                                        const std::string& extra = "", double every = 0.005) {
+  Stopwatch clock;
+  const std::clock_t c0 = std::clock();
+  TiltedSessile s(thetaDeg, alphaDeg, 1.5e-3, rdx, extra, viscosity);
+  WettingAverage r;
+  double rc = 0, sc = 0;
+  int np = 0;
+  s.stepper.runTo(s.sim, 0.5 * tEnd);
+  for (double t = 0.5 * tEnd; t <= tEnd * (1 + 1e-9); t += every) {
+    s.stepper.runTo(s.sim, t);
+    const double a = s.contactAngle(rc, sc, np);
+    r.mean += a;
+    r.lo = std::min(r.lo, a);
+    r.hi = std::max(r.hi, a);
+    ++r.samples;
+  }
+  r.mean /= r.samples;
+  double H = 0, A = 0;
+  r.cap = s.capAngle(H, A);
+  r.steps = static_cast<long long>(s.sim.step);
+  r.particles = static_cast<long long>(s.sim.store.realCount());
+  r.wall = clock.seconds();
+  r.cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
+  std::printf("wetting theta %.0f tilt %.0f R0/dx %d mu %g: mean %.2f deg over [%.0f, %.0f] ms (%d samples, %.2f to %.2f), "
+              "cap %.2f at the end, %lld particles, %lld steps, %.1f s wall, %.1f s CPU\n",
+              thetaDeg, alphaDeg, rdx, viscosity, r.mean, 500 * tEnd, 1e3 * tEnd, r.samples, r.lo, r.hi, r.cap,
+              r.particles, r.steps, r.wall, r.cpu);
+  std::fflush(stdout);
+  char name[96];
+  std::snprintf(name, sizeof name, "fluid_wetting_flat_theta%.0f_r%d.txt", thetaDeg, rdx);
+  s.dump(name);
   return r;
 }
 

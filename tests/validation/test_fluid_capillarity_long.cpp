@@ -64,26 +64,74 @@ TEST(DISABLED_Probe, TiltedSessile) {
   EXPECT_GT(r.theta, 0.0);
 }
 
-// Wetting at 30 and 150 degrees on a flat lattice-aligned wall (issue 14 item 4), one setting
-// (wetting: normal, wetting_scale 0.15) at two resolutions, rectangle start, 60 ms: the model does
-// NOT reach the angle (measured 48.7 / 51.4 deg for 30 at R0/dx 10 / 15, 130.6 / 125.6 for 150;
-// the 30-degree drop is still spreading: 44.5 at 90 ms, 37.8 at 180 ms, R0/dx 10). Recorded as a
-// failing row against the issue's 5 degrees; asserted only against regression (3 degrees worse
-// than measured). This is why the 30-degree capillary entry is 20-30 % low (docs/fluid.md).
-TEST(FluidWettingExtremes, Angles30And150FlatWallTwoResolutions) {
-  struct Case { double theta; int rdx; double measured; };
-  for (const Case c : {Case{30, 10, 48.71}, Case{30, 15, 51.38}, Case{150, 10, 130.57}, Case{150, 15, 125.56}}) {
-    const auto r = test::runTiltedSessile(c.theta, 0.0, c.rdx, 0.06, false);
-    char cs[96], res[200];
-    std::snprintf(cs, sizeof cs, "fluid_wetting_flat_theta%.0f_R%d", c.theta, c.rdx);
-    std::snprintf(res, sizeof res,
-                  "2D flat lattice-aligned wall, R0/dx = %d, rectangle start, quintic h = dx, Oh = 0.18, equal densities, "
-                  "p_b = 100 Pa, t = 60 ms, %lld steps", c.rdx, r.steps);
-    test::recordValidation({cs, "contact angle (degrees), circle fit above 2 dx", r.theta, c.theta,
-                            std::abs(r.theta - c.theta) / c.theta, res, r.wall,
-                            "issue target |error| < 5 deg: NOT met; asserted within 3 deg of the measured level",
-                            "prescribed wall angle (Eq. 1.10), wetting: normal"});
-    if (c.theta < 90) EXPECT_LT(r.theta, c.measured + 3.0) << "R0/dx " << c.rdx;
-    else EXPECT_GT(r.theta, c.measured - 3.0) << "R0/dx " << c.rdx;
+// Angle against time on a flat or tilted wall: PROBE_THETA, PROBE_TILT, PROBE_RDX, PROBE_TEND,
+// PROBE_DT (print interval), PROBE_MU (both phases), PROBE_HALFWIDTH (start rectangle, R0), PROBE_EXTRA; circle fit and cap (height/area).
+TEST(DISABLED_Probe, WettingSeries) {
+  test::Stopwatch clock;
+  const double theta = env("PROBE_THETA", 30), tilt = env("PROBE_TILT", 0), tEnd = env("PROBE_TEND", 0.06);
+  const int rdx = static_cast<int>(env("PROBE_RDX", 10));
+  test::TiltedSessile s(theta, tilt, 1.5e-3, rdx, envs("PROBE_EXTRA", ""), env("PROBE_MU", 0.05),
+                          env("PROBE_HALFWIDTH", 0.9));
+  const double dt = env("PROBE_DT", 0.01);
+  for (double t = dt; t <= tEnd * (1 + 1e-9); t += dt) {
+    s.stepper.runTo(s.sim, t);
+    double rc, sc, H, A;
+    int np;
+    const double fit = s.contactAngle(rc, sc, np);
+    const double cap = s.capAngle(H, A);
+    std::printf("theta %.0f tilt %.0f R0/dx %d t %.0f ms: fit %.2f cap %.2f (H %.2f dx, r %.2f dx, %d pts) %.1f s\n", theta,
+                tilt, rdx, 1e3 * t, fit, cap, H / s.dx, rc / s.dx, np, clock.seconds());
+    std::fflush(stdout);
+  }
+  if (env("PROBE_PROFILE", 0) > 0) {  // interface particles near the right contact line
+    s.sim.updateNeighbours();
+    const auto& st = s.sim.store;
+    const double* x = st.data(st.position());
+    const double* ng = st.data(s.fluid->colourGradient);
+    const double* kp = st.data(s.fluid->curvature);
+    const double* ac = st.data(s.sim.acceleration);
+    const std::int32_t* mt = st.data(st.material());
+    const std::int32_t* itf = st.data(s.fluid->interface);
+    for (Index i = 0; i < st.realCount(); ++i) {
+      if (!itf[i] || (mt[i] != s.liquid && mt[i] != s.gas)) continue;
+      const Eigen::Vector2d d(x[2 * i] - s.P0[0], x[2 * i + 1] - s.P0[1]);
+      const double tt = d.dot(s.t), ss = d.dot(s.n);
+      if (ss > 5 * s.dx || tt < 0) continue;
+      const Eigen::Vector2d nn(ng[2 * i], ng[2 * i + 1]);
+      const Eigen::Vector2d mo = -nn / std::max(1e-30, nn.norm());
+      std::printf("  %s s %.2f t %.2f: local angle %.1f |n|dx %.3f kappa dx %.3f acc %.3e %.3e\n",
+                  mt[i] == s.liquid ? "L" : "G", ss / s.dx, tt / s.dx,
+                  std::atan2(mo.dot(s.t), mo.dot(s.n)) * 180 / 3.14159265358979, nn.norm() * s.dx, kp[i] * s.dx,
+                  Eigen::Vector2d(ac[2 * i], ac[2 * i + 1]).dot(s.t), Eigen::Vector2d(ac[2 * i], ac[2 * i + 1]).dot(s.n));
+    }
+  }
+  char name[96];
+  std::snprintf(name, sizeof name, "probe_wetting_theta%.0f_r%d%s.txt", theta, rdx, envs("PROBE_TAG", "").c_str());
+  s.dump(name);
+}
+
+// Wetting at 30, 60, 90, 120 and 150 degrees on a flat lattice-aligned wall (issue 14 item 4),
+// one setting for all (test::kWettingGhostSettings: wetting: normal, wetting_scale 0.05,
+// wetting_ghost: true; not the defaults, see docs/fluid.md) at
+// two resolutions (R0/dx 10 and 15), rectangle start (not the answer for any angle), Oh = 0.036
+// (mu 0.01 Pa s in both phases: the contact line reaches its angle within the run; at Oh 0.18 the
+// 30-degree drop was still spreading after 300 ms), angle = mean of the circle fit over
+// [60, 120] ms. With the defaults (scale 0.15, no ghost colour): 48.7 / 130.6 degrees at 30 / 150
+// (60 ms, Oh 0.18). Spec: within 5 degrees (issue 14), asserted.
+TEST(FluidWettingExtremes, FiveAnglesFlatWallTwoResolutions) {
+  for (const int rdx : {10, 15}) {
+    for (const double theta : {30.0, 60.0, 90.0, 120.0, 150.0}) {
+      const auto r = test::runWettingAverage(theta, 0.0, rdx, 0.12, 0.01, test::kWettingGhostSettings);
+      char cs[96], res[240];
+      std::snprintf(cs, sizeof cs, "fluid_wetting_flat_theta%.0f_R%d", theta, rdx);
+      std::snprintf(res, sizeof res,
+                    "2D flat lattice-aligned wall, R0/dx = %d, rectangle start, quintic h = dx, Oh = 0.036, equal "
+                    "densities, p_b = 100 Pa, mean over 60-120 ms (%.1f to %.1f), %lld steps",
+                    rdx, r.lo, r.hi, r.steps);
+      test::recordValidation({cs, "contact angle (degrees), circle fit above 2 dx, time mean", r.mean, theta,
+                              std::abs(r.mean - theta) / theta, res, r.wall, "|error| < 5 degrees",
+                              "prescribed wall angle (Eq. 1.10), wetting: normal with ghost colour, wetting_scale 0.05"});
+      EXPECT_NEAR(r.mean, theta, 5.0) << "R0/dx " << rdx;
+    }
   }
 }
