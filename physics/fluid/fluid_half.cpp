@@ -6,9 +6,10 @@
 // ghost is in the real particle's row only and adds to it only (its mirror is in the row of the
 // ghost's source), as in the gather loops.
 //
-// The pair terms are those of the gather loops in fluid_module.cpp, term for term: each side's
-// term is the gather loop's expression with r_ba = -r_ab (exact in floating point), so the two
-// lists differ only in the order of the sums (round-off; tests/unit/test_half_neighbour_list.cpp).
+// The fluid-fluid pair terms are written once for both loops (fluid_pair.hpp), the fluid-wall
+// ones once in libcore (fluidBoundaryPair): each side's term is the gather loop's expression with
+// r_ba = -r_ab (exact in floating point), so the two lists differ only in the order of the sums
+// (round-off; tests/unit/test_half_neighbour_list.cpp).
 // Eqs.: continuity 5.1a (or the mass form), pressure 5.2b (or Hu-Adams), viscosity 5.4 with the
 // lattice normalisation, artificial viscosity 2.64-2.65, XSPH 2.66, wall extrapolation (Adami et
 // al. 2012), density summation (number-density form).
@@ -23,6 +24,7 @@
 #include "libcore/phases.hpp"
 #include "libcore/simulation.hpp"
 #include "physics/fluid/fluid_module.hpp"
+#include "physics/fluid/fluid_pair.hpp"
 
 namespace poresph {
 
@@ -274,6 +276,7 @@ void FluidModule::forceLoopHalf(Simulation& sim, double uShift, const double* wa
   const FluidPairSettings pairSettings = sim.fluidPairSettings;
   const double* vol = vol_.data();
   const double* pRho2 = pRho2_.data();
+  const FluidFluidOptions ffOptions{huAdams, pOff, alpha, h};
   Vec<D> g;
   for (int a = 0; a < D; ++a) g[a] = gravity_[static_cast<size_t>(a)];
 
@@ -411,40 +414,26 @@ void FluidModule::forceLoopHalf(Simulation& sim, double uShift, const double* wa
             const Vec<D> vab = va - vb;
             const double vabGradW = vab.dot(gradW);  // = v_ba . grad_b W_ba
             if (delta > 0.0 && idb == ida) {  // Molteni-Colagrossi density diffusion
-              if (recA) diffA += 2.0 * Vb * (rhoa - rhob) * F;
-              if (recB) tb[kDiff] += 2.0 * Va * (rhob - rhoa) * F;
+              if (recA) diffA += densityDiffusionTerm(Vb, rhoa, rhob, F);
+              if (recB) tb[kDiff] += densityDiffusionTerm(Va, rhob, rhoa, F);
             }
             if (xsphOn && idb == ida) {  // XSPH (2.66) within one material
               const double wk = K.value(r.norm());
-              if (recA) dvXA += (2.0 * mb / (rhoa + rhob) * wk) * (vb - va);
+              if (recA) dvXA += xsphTerm<D>(mb, rhoa, rhob, wk, vb, va);
               if (recB) {
-                const Vec<D> s = (2.0 * ma / (rhob + rhoa) * wk) * (va - vb);
+                const Vec<D> s = xsphTerm<D>(ma, rhob, rhoa, wk, va, vb);
                 for (int a = 0; a < D; ++a) tb[kX + a] += s[a];
               }
             }
-            Vec<D> fA, fB;  // accelerations of a and b from the pair
-            if (huAdams) {
-              const double pt = (rhob * (pa - pOff) + rhoa * (pb - pOff)) / (rhoa + rhob);
-              const double sq = Va * Va + Vb * Vb;
-              const double vvA = sq / ma, vvB = sq / mb;
-              fA = -(vvA * pt) * gradW + (fab * vvA * 0.5 * muBar * F) * vab;
-              fB = (vvB * pt) * gradW - (fab * vvB * 0.5 * muBar * F) * vab;
-            } else {
-              const double ps = pRho2[i] + pRho2[j];  // Eq. 5.2b
-              fA = -(mb * ps) * gradW;
-              fB = (ma * ps) * gradW;
-              if (muBar != 0.0) {  // Eq. 5.4
-                fA += (fab * muBar * Vb * F / rhoa) * vab;
-                fB -= (fab * muBar * Va * F / rhob) * vab;
-              }
-            }
-            if (alpha > 0.0) {  // Eq. 2.64 (Pi_ab = Pi_ba)
-              const double ca = mA ? mA->soundSpeed : mB->soundSpeed;
-              const double cb = mB ? mB->soundSpeed : ca;
-              const double Pi = artificialViscosityPi<D>(vab, r, h, alpha, 0.0, ca, cb, rhoa, rhob);
-              fA -= (mb * Pi) * gradW;
-              fB += (ma * Pi) * gradW;
-            }
+            // Pressure, viscosity, artificial viscosity of both sides (fluid_pair.hpp).
+            const double ca = mA ? mA->soundSpeed : mB->soundSpeed;
+            const double cb = mB ? mB->soundSpeed : ca;
+            const FluidPairParticle pa_{ma, rhoa, Va, pa, pRho2[i], ca};
+            const FluidPairParticle pb_{mb, rhob, Vb, pb, pRho2[j], cb};
+            FluidFluidAccel<D> ta, tbAcc;
+            fluidFluidPair<D, true>(r, gradW, F, vab, pa_, pb_, muBar, fab, ffOptions, ta, tbAcc);
+            const Vec<D> fA = ta.pressure + ta.viscous + ta.artificial;
+            const Vec<D> fB = tbAcc.pressure + tbAcc.viscous + tbAcc.artificial;
             if (recA) {
               accA += fA;
               divA += continuityTerm(form, rhoa, mb, Vb, vabGradW);  // Eq. 5.1a / mass form

@@ -13,6 +13,7 @@
 #include "libcore/fluid_pair_terms.hpp"
 #include "libcore/phases.hpp"
 #include "libcore/simulation.hpp"
+#include "physics/fluid/fluid_pair.hpp"
 #include "physics/fluid/surface_tension.hpp"
 
 namespace poresph {
@@ -817,6 +818,7 @@ void FluidModule::forcesD(Simulation& sim) {
   const double* pRho2 = pRho2W;
   const double* wallRho = wallRhoW;
   if (nl.half) forceLoopHalf<D>(sim, uShift, wallRho);  // fluid_half.cpp
+  const FluidFluidOptions ffOptions{huAdams, pOff, artificialViscosity_, h};
   if (!nl.half) W.withFixedType<D>([&](const auto K) {
 #pragma omp parallel for schedule(dynamic, 256)
   for (Index i = 0; i < n; ++i) {
@@ -905,33 +907,27 @@ void FluidModule::forcesD(Simulation& sim) {
       const double mub = (idb >= 0 && idb < nm) ? md[idb].viscosity : mua;
       const double Vb = vol[j];
       if (densityDiffusion_ > 0.0 && idb == ida)  // Molteni-Colagrossi density diffusion
-        diff += 2.0 * Vb * (rhoa - rhob) * F;
+        diff += densityDiffusionTerm(Vb, rhoa, rhob, F);
       // XSPH (2.66) within one material: averaging across a density jump would drag the light
       // phase with the heavy one.
-      if (xsphOn && idb == ida) dvX += (2.0 * m[j] / (rhoa + rhob) * K.value(r.norm())) * (vb - va);
+      if (xsphOn && idb == ida) dvX += xsphTerm<D>(m[j], rhoa, rhob, K.value(r.norm()), vb, va);
       const double mb = m[j];
       const Vec<D> vab = va - vb;
       const double fab = 0.5 * (fa + (visc ? visc[j] : 1.0));
       const double muBar = mua + mub > 0.0
                                ? (harmonicMean_ ? 4.0 * mua * mub / (mua + mub) : mua + mub)
                                : 0.0;
-      if (huAdams) {
-        // Hu & Adams (2006): -(1/m_a) sum (V_a^2 + V_b^2) p~_ab grad W, p~ density-weighted.
-        const double pt = (rhob * (pa - pOff) + rhoa * (pb - pOff)) / (rhoa + rhob);
-        const double vv = (Va * Va + Vb * Vb) / m[i];
-        aP -= (vv * pt) * gradW;
-        aV += (fab * vv * 0.5 * muBar * F) * vab;
-      } else {
-        aP -= (mb * (pRho2[i] + pRho2[j])) * gradW;  // Eq. 5.2b
-        if (muBar != 0.0) aV += (fab * muBar * Vb * F / rhoa) * vab;  // Eq. 5.4 (0 if inviscid)
-      }
+      // Pressure (5.2b or Hu & Adams), viscosity (5.4), artificial viscosity (2.64): the terms
+      // written once for both pair loops (physics/fluid/fluid_pair.hpp).
+      const double cb = (idb >= 0 && idb < nm) ? md[idb].soundSpeed : ma.soundSpeed;
+      const FluidPairParticle pa_{m[i], rhoa, Va, pa, pRho2[i], ma.soundSpeed};
+      const FluidPairParticle pb_{mb, rhob, Vb, pb, pRho2[j], cb};
+      FluidFluidAccel<D> ta, unusedB;
+      fluidFluidPair<D, false>(r, gradW, F, vab, pa_, pb_, muBar, fab, ffOptions, ta, unusedB);
+      aP += ta.pressure;
+      aV += ta.viscous;
+      aA += ta.artificial;
       divv += continuityTerm(continuityForm_, rhoa, mb, Vb, vab.dot(gradW));  // Eq. 5.1a / mass form
-      if (artificialViscosity_ > 0.0) {
-        const double cb = (idb >= 0 && idb < nm) ? md[idb].soundSpeed : ma.soundSpeed;
-        const double Pi = artificialViscosityPi<D>(vab, r, h, artificialViscosity_, 0.0,
-                                                   ma.soundSpeed, cb, rhoa, rhob);
-        aA -= (mb * Pi) * gradW;  // Eq. 2.64
-      }
     }
     if (nextFactor) nextFactor[i] = moment > 0.5 * D ? D / moment : 1.0;
     Vec<D> ai = aP + aV + aA + g;
