@@ -712,6 +712,7 @@ std::string describeScene(const Scene& scene) {
   if (sim.neighbours.realCount() > 0)
     o << ", measured mean " << fmt(static_cast<double>(sim.neighbours.pairCount()) /
                                    static_cast<double>(sim.neighbours.realCount()))
+      << (sim.neighbours.half ? " in the half list (each pair of real particles once)" : "")
       << ", list " << fmt(static_cast<double>(sim.neighbours.bytes()) / 1048576.0) << " MiB";
   o << "\n";
   o << "time:         end_time " << scene.endTime << " s, integrator " << scene.integrator << ", ";
