@@ -166,6 +166,31 @@ TEST(SolidVariational, DamagedForceIsTheGradientOfTheDamagedStoredEnergy) {
   }
 }
 
+TEST(SolidVariational, HourglassPenaltyIsDegradedWithTheDamage) {
+  // The conservative hourglass penalty is degraded by g(D) like the rest of the stored energy
+  // (docs/damage.md "Hourglass control under damage"): with a uniform D its energy is g(D) times
+  // the undamaged one (it was not degraded before 2026-11-27: ratio 1), and with a non-uniform
+  // frozen D the force is still -dE/dx of the damaged energy plus the degraded penalty.
+  const std::string law = ", damage: {law: at2, critical_energy_release: 2500}";
+  auto sim = disorderedBlock<2>(7, 1.0, "", 11, law);
+  auto* solid = dynamic_cast<ElasticSolidModule*>(sim->module("solid"));
+  ParticleStore& s = sim->store;
+  double* dm = s.data(s.real("damage"));
+  sim->evaluateRates();
+  const double undamaged = solid->hourglassEnergy(*sim);
+  ASSERT_GT(undamaged, 0.0);
+  for (Index i = 0; i < s.realCount(); ++i) dm[i] = 0.5;  // AT-2: g = (1 - D)^2 = 0.25
+  sim->evaluateRates();
+  const double ratio = solid->hourglassEnergy(*sim) / undamaged;
+  std::printf("uniform D = 0.5 (AT-2, g = 0.25): hourglass energy ratio %.15f\n", ratio);
+  EXPECT_NEAR(ratio, 0.25, 1e-12);
+  for (Index i = 0; i < s.realCount(); ++i) dm[i] = 0.9 * (0.5 + 0.5 * std::sin(1.7 * i));
+  const double err = gradientMismatch<2>(*sim, 1);
+  std::printf("2D, AT-2, conservative hourglass 1, D in [0, 0.9]: max |dE/dx + m a| / max |m a| = %.2e\n",
+              err);
+  EXPECT_LT(err, 1e-6);
+}
+
 TEST(SolidVariational, HourglassFormKeyIsChecked) {
   Simulation sim(2);
   addMaterial(sim, "clay", "elastic", "{density: 2000, young_modulus: 1.0e9, poisson_ratio: 0.3}");
