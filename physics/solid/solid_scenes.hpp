@@ -123,6 +123,40 @@ inline void appendShells(double a, double dx, int shells, std::vector<double>& x
   }
 }
 
+/// A water + clay run from point arrays (D coordinates per point, its volume and its material:
+/// 0 = the fluid material sim.materials[0], 1 = the elastic sim.materials[1]): creates the fluid,
+/// solid and coupling modules (they register their fields first), adds the particles at
+/// `density`, checks the pair owners, builds the neighbours and initialises, ready to step.
+/// Used by the pressurised-pore tests in 2D (rings) and 3D (shells).
+inline void setupWaterInClay(Simulation& sim, const std::vector<double>& coords,
+                             const std::vector<double>& volume, const std::vector<int>& material,
+                             double density) {
+  for (const char* name : {"fluid", "solid", "coupling"}) {
+    std::unique_ptr<Module> mod = ModuleRegistry::create(name);
+    std::vector<const Material*> mats;
+    if (std::string(name) == "fluid") mats = {&sim.materials[0]};
+    if (std::string(name) == "solid") mats = {&sim.materials[1]};
+    mod->configure(sim, mats, nullptr);
+    sim.addModule(std::move(mod));
+  }
+  const int D = sim.dimension();
+  ParticleStore& st = sim.store;
+  const Index n = static_cast<Index>(volume.size());
+  st.addParticles(n);
+  for (Index q = 0; q < n; ++q) {
+    const size_t k = static_cast<size_t>(q);
+    for (int c = 0; c < D; ++c) st.data(st.position())[D * q + c] = coords[D * k + static_cast<size_t>(c)];
+    st.data(st.mass())[q] = density * volume[k];
+    st.data(st.density())[q] = density;
+    st.data(st.material())[q] = material[k];
+    st.data(st.phase())[q] = sim.materials[static_cast<size_t>(material[k])].phase;
+  }
+  sim.checkPairOwners();
+  sim.updateNeighbours();
+  for (auto& mod : sim.modules) mod->initialise(sim);
+  sim.evaluateRates();
+}
+
 /// Zero crossings (linear interpolation) of a sampled signal; returns crossing times.
 inline std::vector<double> zeroCrossings(const std::vector<double>& t, const std::vector<double>& y) {
   std::vector<double> out;

@@ -288,33 +288,8 @@ PoreResult runPressurisedPore(bool rings, int perThickness, double duration) {
       mat.push_back(water ? 0 : 1);
     }
   const Index n = static_cast<Index>(vol.size());
+  solid::setupWaterInClay(sim, xy, vol, mat, 1000.0);
   ParticleStore& st = sim.store;
-  // Modules first (they register their fields), then the particles with their phases.
-  {
-    std::unique_ptr<Module> fluid = ModuleRegistry::create("fluid");
-    fluid->configure(sim, {&sim.materials[0]}, nullptr);
-    sim.addModule(std::move(fluid));
-    std::unique_ptr<Module> solid = ModuleRegistry::create("solid");
-    solid->configure(sim, {&sim.materials[1]}, nullptr);
-    sim.addModule(std::move(solid));
-    std::unique_ptr<Module> coupling = ModuleRegistry::create("coupling");
-    coupling->configure(sim, {}, nullptr);
-    sim.addModule(std::move(coupling));
-  }
-  st.addParticles(n);
-  for (Index k = 0; k < n; ++k) {
-    const int id = mat[static_cast<size_t>(k)];
-    st.data(st.position())[2 * k] = xy[2 * static_cast<size_t>(k)];
-    st.data(st.position())[2 * k + 1] = xy[2 * static_cast<size_t>(k) + 1];
-    st.data(st.mass())[k] = 1000.0 * vol[static_cast<size_t>(k)];
-    st.data(st.density())[k] = 1000.0;
-    st.data(st.material())[k] = id;
-    st.data(st.phase())[k] = sim.materials[static_cast<size_t>(id)].phase;
-  }
-  sim.checkPairOwners();
-  sim.updateNeighbours();
-  for (auto& mod : sim.modules) mod->initialise(sim);
-  sim.evaluateRates();
   auto integrator = makeIntegrator("leapfrog");
   const double dt = 0.5 * std::min(sim.stableTimeStep(), cflTimeStep(sim, sim.kernel.h()));
   const long steps = static_cast<long>(duration / dt);

@@ -69,28 +69,8 @@ SphereResult runPressurisedSphere(int shells, double duration, int waterShells =
         mat.push_back(0);
       }
   const Index n = static_cast<Index>(vol.size());
+  solid::setupWaterInClay(sim, xyz, vol, mat, 1000.0);
   ParticleStore& st = sim.store;
-  for (const char* name : {"fluid", "solid", "coupling"}) {
-    std::unique_ptr<Module> mod = ModuleRegistry::create(name);
-    std::vector<const Material*> mats;
-    if (std::string(name) == "fluid") mats = {&sim.materials[0]};
-    if (std::string(name) == "solid") mats = {&sim.materials[1]};
-    mod->configure(sim, mats, nullptr);
-    sim.addModule(std::move(mod));
-  }
-  st.addParticles(n);
-  for (Index q = 0; q < n; ++q) {
-    const int id = mat[static_cast<size_t>(q)];
-    for (int c = 0; c < 3; ++c) st.data(st.position())[3 * q + c] = xyz[3 * static_cast<size_t>(q) + c];
-    st.data(st.mass())[q] = 1000.0 * vol[static_cast<size_t>(q)];
-    st.data(st.density())[q] = 1000.0;
-    st.data(st.material())[q] = id;
-    st.data(st.phase())[q] = sim.materials[static_cast<size_t>(id)].phase;
-  }
-  sim.checkPairOwners();
-  sim.updateNeighbours();
-  for (auto& mod : sim.modules) mod->initialise(sim);
-  sim.evaluateRates();
   auto integrator = makeIntegrator("leapfrog");
   const double dt = 0.5 * std::min(sim.stableTimeStep(), cflTimeStep(sim, sim.kernel.h()));
   const long steps = static_cast<long>(duration / dt);
