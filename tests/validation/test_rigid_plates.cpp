@@ -7,7 +7,7 @@
 // test_rigid_plates_case.hpp for the set-up and test_rigid_plates_long.cpp for the resolution
 // study.
 // RIGID_PLATES_PROBE="n formulation hourglass load" runs one more case and prints it (load:
-// plates, slip, traction, pressure, slip3d).
+// plates, slip, traction, pressure, slip3d, periodic).
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -30,6 +30,8 @@ TEST(RigidPlates, Probe) {
   in >> n >> form >> hg >> load;
   if (load == "slip3d")
     runPlates3D(n, hg);
+  else if (load == "periodic")
+    runPlatesPeriodic(n);
   else
     runPlates(n, form, hg, load);
 }
@@ -74,6 +76,19 @@ TEST(RigidPlates, SixSlipPlatesHoldTheUniformStressIn3D) {
                           r.meanU, r.uExact, r.worstU, "3D, 10^3 particles, plates 2 dx thick, TL, weighted bond",
                           r.seconds, "< 2 % (SVK closed form: < 0.6 %)",
                           "closed form s L / (2 (3 lambda + 2 mu))"});
+}
+
+TEST(RigidPlates, SlipPlatesAcrossAPeriodicAxisHoldUniaxialStrain) {
+  // The clay spans the period along x (families and consistent loads through images), two
+  // plates on y: measured at 20 across, sigma_yy = -s to 0.0000 % at every particle, plate
+  // displacement +1.40 % of s L / (2 (lambda + 2 mu)), +0.118 % of the SVK form (the bond's
+  // compliance s dx / (2 k)), load area exact to 9e-16.
+  const PlatesResult r = runPlatesPeriodic(20);
+  EXPECT_LT(r.worstForce, 1e-4) << "a plate does not carry its load";
+  EXPECT_LT(r.loadArea, 1e-9);
+  EXPECT_LT(r.worstU, 0.02) << "plate displacement against s L / (2 (lambda + 2 mu))";
+  EXPECT_LT(r.worstUSvk, 0.003) << "plate displacement against the SVK closed form";
+  EXPECT_LT(r.worst, 0.001) << "sigma_yy against -s";
 }
 
 TEST(RigidPlates, ContactPlatesStayWithinTheirMeasuredError) {

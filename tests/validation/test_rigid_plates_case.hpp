@@ -284,5 +284,65 @@ inline PlatesResult runPlates3D(int n, double hourglass) {
   return out;
 }
 
+/// Probe of the periodic path (docs/rigid.md): the block periodic along x (the clay spans the
+/// period), two `bonded: slip` plates on y only: uniaxial strain, sigma_yy = -s exactly (the face
+/// does not shrink), plate displacement s L / (2 (lambda + 2 mu)) (small strain) and the SVK
+/// stretch of (lambda + 2 mu) / 2 l (l^2 - 1) = -s.
+inline PlatesResult runPlatesPeriodic(int n) {
+  test::Stopwatch clock;
+  const double L = 0.02, dx = L / n, t = 2 * dx;
+  std::ostringstream y;
+  y.precision(10);
+  y << "dimension: 2\n"
+    << "domain: {lo: [0.0, -0.01], hi: [0.02, 0.03], periodic: [true, false]}\n"
+    << "spacing: " << dx << "\n"
+    << "kernel: wendland_c2\nend_time: 0.012\ntime_step: {adaptive: true, cfl: 0.5}\n"
+    << "output: {every_steps: 100000000}\nmaterials:\n"
+    << "  - {name: clay, model: elastic, density: 2000, young_modulus: 1.0e6, poisson_ratio: 0.25, "
+       "formulation: total_lagrangian, damping: 3000}\n";
+  y << "  - {name: bottom, model: rigid, density: 2000, contact_modulus: 5.0e7, bonded: slip, damping: 3000, plate: {direction: [0, 1], stress: 1.0e4, area: 0.02}}\n"
+    << "  - {name: top, model: rigid, density: 2000, contact_modulus: 5.0e7, bonded: slip, damping: 3000, plate: {direction: [0, -1], stress: 1.0e4, area: 0.02}}\n"
+    << "geometry:\n  - {shape: box, lo: [0.0, 0.0], hi: [0.02, 0.02], material: clay}\n"
+    << "  - {shape: box, lo: [0.0, " << -t << "], hi: [0.02, 0.0], material: bottom}\n"
+    << "  - {shape: box, lo: [0.0, 0.02], hi: [0.02, " << L + t << "], material: top}\n";
+  Scene s = loadSceneText(y.str(), "rigid_plates_periodic.yaml");
+  Simulation& sim = *s.sim;
+  auto* rigid = dynamic_cast<RigidModule*>(sim.module("rigid"));
+  EXPECT_NE(rigid, nullptr);
+  auto integrator = makeIntegrator("leapfrog");
+  while (!s.finished()) integrator->step(sim, s.nextTimeStep());
+  const double sigma = 1.0e4, E = 1.0e6, nu = 0.25;
+  const double lambda = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
+  PlatesResult out;
+  out.uExact = sigma * L / (2.0 * (lambda + 2.0 * mu));
+  out.uSvk = (1.0 - svkStretch(sigma, lambda, mu, 1)) * L / 2.0;
+  const ParticleStore& st = sim.store;
+  const RealField stress = st.real("stress");
+  for (Index i = 0; i < st.realCount(); ++i) {
+    if (st.data(st.phase())[i] != kPhaseSolid) continue;
+    const Mat<2> S = st.mat<2>(stress, i);
+    out.worst = std::max(out.worst, std::abs(S(1, 1) + sigma) / sigma);  // every particle
+  }
+  for (const auto& [name, value] : sim.diagnostics()) {
+    if (name.rfind("plate", 0) != 0) continue;
+    if (name.find("_displacement") != std::string::npos) {
+      out.worstU = std::max(out.worstU, std::abs(value - out.uExact) / out.uExact);
+      out.worstUSvk = std::max(out.worstUSvk, std::abs(value - out.uSvk) / out.uSvk);
+      out.meanU += value / 2.0;
+    } else if (name.find("_force") != std::string::npos) {
+      out.worstForce = std::max(out.worstForce, std::abs(value + sigma * L) / (sigma * L));
+    }
+  }
+  for (const auto& P : rigid->plateBonds())
+    out.loadArea = std::max(out.loadArea, std::abs(P.loadArea / L - 1.0));
+  out.seconds = clock.seconds();
+  std::printf("  periodic slip: %d across: plate displacement mean %.5e m, small strain %.5e m "
+              "(worst %.3f %%), SVK %.5e m (worst %.3f %%); sigma_yy worst %.4f %% off -s (all "
+              "particles); plate force %.1e; load area %.2e off; %.1f s\n",
+              n, out.meanU, out.uExact, 100 * out.worstU, out.uSvk, 100 * out.worstUSvk,
+              100 * out.worst, out.worstForce, out.loadArea, out.seconds);
+  return out;
+}
+
 }  // namespace poresph::test
 
