@@ -38,6 +38,7 @@ struct Entry {
   explicit Entry(double forceRatio) {
     mu = env("FLUID_MU", mu);
     thetaDeg = env("FLUID_THETA", thetaDeg);  // manual studies of other angles (issue 14)
+    dx = env("FLUID_DX", dx);  // manual resolution studies: same geometry, w = 1 mm / dx (issue 14)
     sim.spacing = dx;
     sim.kernel = Kernel(KernelType::QuinticSpline, 2, dx);
     const double t = 3 * dx;
@@ -114,6 +115,11 @@ EntryResult runEntry(double ratio, double tEnd) {
   return r;
 }
 
+// Records of FLUID_DX studies go beside the default ones, not over them (kRes names dx = 0.1 mm).
+std::string recordDir() {
+  return std::getenv("FLUID_DX") ? std::string(PORESPH_BINARY_DIR) + "/validation-records-explore" : std::string();
+}
+
 const char* kRes = "dx = 0.1 mm: slit w = 10 dx, channel H = 30 dx, loop Lx = 80 dx, slit length 30 dx, theta = 60 deg, "
                    "quintic h = dx, mu = 0.01 Pa s, equal densities, p_b = 100 Pa, t = 80 ms";
 
@@ -131,7 +137,8 @@ TEST(FluidCapillaryEntry, GasStaysOutBelowThreshold) {
   EXPECT_LT(r.frontEnd - r.frontHalf, 0.1);    // and does not advance
   test::recordValidation({"fluid_capillary_entry_2d", q,
                           r.frontEnd, 0.0, r.frontEnd, kRes, r.wall, "< 0.5 w and advance over the second half < 0.1 w",
-                          "Young-Laplace entry 2 gamma cos(theta) / w (minus the wide channel's)"});
+                          "Young-Laplace entry 2 gamma cos(theta) / w (minus the wide channel's)"},
+                         recordDir());
 }
 
 TEST(FluidCapillaryEntry, GasEntersAboveThreshold) {
@@ -144,5 +151,6 @@ TEST(FluidCapillaryEntry, GasEntersAboveThreshold) {
   EXPECT_GT(r.frontEnd - r.frontHalf, 0.15);  // still advancing
   test::recordValidation({"fluid_capillary_entry_2d", q,
                           r.frontEnd, 0.0, r.frontEnd, kRes, r.wall, "> 0.6 w and advance over the second half > 0.15 w",
-                          "Young-Laplace entry 2 gamma cos(theta) / w (minus the wide channel's)"});
+                          "Young-Laplace entry 2 gamma cos(theta) / w (minus the wide channel's)"},
+                         recordDir());
 }
