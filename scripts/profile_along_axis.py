@@ -1,12 +1,12 @@
 #!/usr/bin/python3
 """Where along the flow axis things happen: per-layer counts of damaged solid and of each fluid.
 
-    scripts/profile_along_axis.py RUN_DIR [--axis z] [--lo 0.0006 --hi 0.0022] [--layer 1e-4]
+    scripts/profile_along_axis.py RUN_DIR [--axis z] [--lo 0.0006 --hi 0.0022] [--layer DX]
         [--threshold 0.5] [--every 1] [--csv OUT.csv]
 
 For each snapshot of RUN_DIR/snapshots (every --every-th), the sample [lo, hi) along --axis is cut
-into layers of thickness --layer (default: the snapshot's smallest particle spacing along the axis
-is not known, so 1e-4 m unless given), and per layer it prints
+into layers of thickness --layer (default: the run's particle spacing, read from RUN_DIR/run.yaml),
+and per layer it prints
   - the number of solid particles with damage > --threshold, binned by their REFERENCE position
     (where the material was, not where it moved), and
   - the number of fluid particles of each material index (scene order) in the layer, by their
@@ -18,6 +18,7 @@ import argparse
 import csv
 import glob
 import os
+import re
 import sys
 
 import numpy as np
@@ -41,13 +42,28 @@ def read(path):
     return out
 
 
+def spacing_of(run):
+    """The top-level `spacing:` of the parameters the run used (RUN_DIR/run.yaml)."""
+    path = os.path.join(run, "run.yaml")
+    try:
+        with open(path) as f:
+            for line in f:
+                m = re.match(r"spacing:\s*([-+0-9.eE]+)\s*(#.*)?$", line)
+                if m:
+                    return float(m.group(1))
+    except OSError as e:
+        raise SystemExit(f"profile_along_axis: {path}: {e.strerror}; give --layer")
+    raise SystemExit(f"profile_along_axis: {path}: no top-level 'spacing:'; give --layer")
+
+
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("run", help="output folder of `poresph run` (with snapshots/)")
     p.add_argument("--axis", default="z", choices=["x", "y", "z"])
     p.add_argument("--lo", type=float, default=None)
     p.add_argument("--hi", type=float, default=None)
-    p.add_argument("--layer", type=float, default=1e-4, help="layer thickness in metres")
+    p.add_argument("--layer", type=float, default=None,
+                   help="layer thickness in metres (default: the run's particle spacing, from RUN_DIR/run.yaml)")
     p.add_argument("--threshold", type=float, default=0.5, help="damage above which a particle counts")
     p.add_argument("--every", type=int, default=1, help="use every N-th snapshot")
     p.add_argument("--csv", default=None, help="also write the table as CSV")
@@ -55,6 +71,8 @@ def main(argv=None):
     snaps = sorted(glob.glob(os.path.join(a.run, "snapshots", "step_*.vtu")))
     if not snaps:
         raise SystemExit(f"profile_along_axis: {a.run}: no snapshots/step_*.vtu")
+    if a.layer is None:
+        a.layer = spacing_of(a.run)
     if a.layer <= 0 or a.every < 1:
         raise SystemExit(f"profile_along_axis: --layer {a.layer} and --every {a.every} must be positive")
     k = "xyz".index(a.axis)
@@ -93,7 +111,7 @@ def main(argv=None):
                 print(f"  {key:>10}: " + " ".join(f"{c:3d}" for c in val))
     if a.csv:
         with open(a.csv, "w", newline="") as f:
-            w = csv.writer(f)
+            w = csv.writer(f, lineterminator="\n")
             w.writerow(["snapshot", "quantity", "layer", "count"])
             for line in rows:
                 for key, val in line.items():

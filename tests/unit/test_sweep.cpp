@@ -1,6 +1,6 @@
 // `poresph sweep` run as a program: one folder per case, a failing case reported while the others
 // run, the summary table, the refusal to overwrite a study, and the post-processing scripts
-// (scripts/plot_timeseries.py, scripts/render_views.py) on the study's output: their PNGs exist
+// (scripts/plot_timeseries.py, scripts/render_views.py, scripts/profile_along_axis.py) on the study's output: their PNGs exist
 // and are not blank. The scripts need /usr/bin/python3 with vtk and matplotlib
 // (scripts/install-deps.sh); without them that part is skipped with a message.
 #include <gtest/gtest.h>
@@ -101,6 +101,30 @@ TEST(Sweep, CasesSummaryFailuresAndScripts) {
   r = shell("/usr/bin/python3 " + scripts + "render_views.py\" \"" + (out / good / "run").string() +
             "\" --fields phase,pressure,max_principal_stress --out \"" + (out / "views").string() + "\"");
   EXPECT_EQ(r.code, 0) << r.output;
+  // scripts/profile_along_axis.py: per-layer fluid counts (the layer from run.yaml's spacing); the
+  // CSV's counts of the first snapshot add up to the fluid particles inside the solid's range.
+  r = shell("/usr/bin/python3 " + scripts + "profile_along_axis.py\" \"" + (out / good / "run").string() +
+            "\" --axis y --csv \"" + (out / "profile.csv").string() + "\"");
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("layers 48 from y = 0"), std::string::npos) << r.output;
+  {
+    std::istringstream csv(slurp(out / "profile.csv"));
+    std::string line;
+    std::getline(csv, line);
+    EXPECT_EQ(line, "snapshot,quantity,layer,count");
+    long total = 0;
+    int rows = 0;
+    while (std::getline(csv, line)) {
+      if (line.rfind("step_00000000.vtu,material", 0) != 0) continue;
+      total += std::stol(line.substr(line.rfind(',') + 1));
+      ++rows;
+    }
+    EXPECT_EQ(rows, 48);
+    EXPECT_GT(total, 300);
+  }
+  r = shell("/usr/bin/python3 " + scripts + "profile_along_axis.py\" \"" + out.string() + "\"");
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.output.find("no snapshots"), std::string::npos) << r.output;
   std::vector<fs::path> pngs = {out / "summary.png", out / "ts.png"};
   for (const char* png : {"phases.png", "phase_xy.png", "pressure_xy.png", "max_principal_stress_xy.png"})
     pngs.push_back(out / "views" / png);
