@@ -15,14 +15,17 @@
 //  - after a barrier each thread adds the spills of the threads before it into its own rows,
 //    in thread order (the result depends on the thread count only through that order).
 // With the store in cell order (Simulation::reorderEvery) a spill covers about a slab of the
-// support's thickness along the slowest cell axis. Buffers grow only when a layout needs more
-// than they hold (counted by allocations()): a steady time loop does not allocate.
+// support's thickness along the slowest cell axis. Buffers are sized by layout() (once per
+// neighbour search, for the widest loop) and grow only there when a layout needs more than they
+// hold (counted by allocations()); use(), called by every loop, never allocates.
 // A ghost neighbour (index >= nReal) gets nothing: its pair is also in the row of its source.
 #include <omp.h>
 
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "libcore/neighbour_search.hpp"
@@ -35,13 +38,15 @@ class PairScatter {
   /// Outside a parallel region: the blocks of omp_get_max_threads() threads over the rows
   /// [0, nReal) of `nl` and the spill of each, for `width` doubles per particle.
   void prepare(const NeighbourList& nl, Index nReal, int width) {
-    layout(nl, nReal);
-    size(width);
+    layout(nl, nReal, width);
+    use(width);
   }
-  /// The blocks and spill ranges alone (a scan of the list). The layout of a list serves every
-  /// list whose rows are subsets of its rows (the Verlet exact lists filtered from candidates
-  /// until the next search): lay out on the candidates once per search, then size() per loop.
-  void layout(const NeighbourList& nl, Index nReal) {
+  /// The blocks and spill ranges (a scan of the list), and the spill buffers sized for up to
+  /// `maxWidth` doubles per particle: the only place that allocates (counted by allocations()).
+  /// The layout of a list serves every list whose rows are subsets of its rows (the Verlet
+  /// exact lists filtered from candidates until the next search): lay out on the candidates
+  /// once per search, then use() per loop, which never allocates.
+  void layout(const NeighbourList& nl, Index nReal, int maxWidth) {
     nt_ = std::max(1, omp_get_max_threads());
     n_ = nReal;
     block_.resize(static_cast<size_t>(nt_) + 1);
@@ -71,21 +76,32 @@ class PairScatter {
       }
       spillEnd_[static_cast<size_t>(t)] = hi;
     }
-  }
-  /// Buffers of the layout for `width` doubles per particle (grow only when too small).
-  void size(int width) {
-    w_ = width;
+    maxWidth_ = maxWidth;
+    const std::int64_t before = allocations_;
+    // Room for the widest loop, with half as much again so that the layouts of later searches
+    // (the flow spreads, the spill slabs change) mostly fit without growing.
     for (int t = 0; t < nt_; ++t) {
       auto& s = spill_[static_cast<size_t>(t)];
-      const std::size_t need = static_cast<std::size_t>(spillEnd_[static_cast<size_t>(t)] -
-                                                        block_[static_cast<size_t>(t) + 1]) *
-                               static_cast<std::size_t>(w_);
+      const std::size_t need = spillRows(t) * static_cast<std::size_t>(maxWidth_);
       if (need > s.capacity()) {
-        s.reserve(need + need / 8 + 64);
+        s.clear();
+        s.shrink_to_fit();
+        s.reserve(need + need / 2 + 64);
         ++allocations_;
       }
-      s.resize(need);
     }
+    ++layouts_;
+    if (allocations_ > before) ++layoutsThatGrew_;
+  }
+  /// The buffers of the layout for a loop of `width` doubles per particle (<= the layout's
+  /// maxWidth, else std::logic_error): never allocates.
+  void use(int width) {
+    if (width > maxWidth_)
+      throw std::logic_error("PairScatter::use: width " + std::to_string(width) +
+                             " above the layout's " + std::to_string(maxWidth_));
+    w_ = width;
+    for (int t = 0; t < nt_; ++t)
+      spill_[static_cast<size_t>(t)].resize(spillRows(t) * static_cast<std::size_t>(w_));
   }
   /// Threads of the layout: run the loop with `num_threads(threads())`; a team of another size
   /// must take the blocks t = thread, thread + team, ... (forBlocks does).
@@ -134,8 +150,11 @@ class PairScatter {
     for (const auto& s : spill_) b += s.capacity() * sizeof(double);
     return b;
   }
-  /// Number of times a spill buffer grew (a steady loop stops allocating).
+  /// Number of times a spill buffer grew; only layout() allocates, and a steady layout not.
   std::int64_t allocations() const { return allocations_; }
+  /// Layouts made, and how many of them had to grow a buffer (a steady run: the first only).
+  std::int64_t layouts() const { return layouts_; }
+  std::int64_t layoutsThatGrew() const { return layoutsThatGrew_; }
   /// Largest spill, in particles, of the last layout (diagnostics).
   Index largestSpill() const {
     Index m = 0;
@@ -144,11 +163,15 @@ class PairScatter {
   }
 
  private:
-  int nt_ = 0, w_ = 0;
+  std::size_t spillRows(int t) const {
+    return static_cast<std::size_t>(spillEnd_[static_cast<size_t>(t)] -
+                                    block_[static_cast<size_t>(t) + 1]);
+  }
+  int nt_ = 0, w_ = 0, maxWidth_ = 0;
   Index n_ = 0;
   std::vector<Index> block_, spillEnd_;
   std::vector<std::vector<double>> spill_;
-  std::int64_t allocations_ = 0;
+  std::int64_t allocations_ = 0, layouts_ = 0, layoutsThatGrew_ = 0;
 };
 
 }  // namespace poresph

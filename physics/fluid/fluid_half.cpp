@@ -32,34 +32,44 @@ void FluidModule::layoutHalf(Simulation& sim, int width) {
   const Index n = sim.store.realCount();
   if (layoutBuild_ != sim.neighbourBuilds() || layoutCount_ != sim.store.size() ||
       scatter_.rows() != n || scatter_.threads() != std::max(1, omp_get_max_threads())) {
-    // The exact list's rows are subsets of the candidates' rows until the next search.
-    scatter_.layout(sim.neighbourCandidates(), n);
+    // Once per neighbour search, before the step's loops: the exact list's rows are subsets of
+    // the candidates' rows until the next search. Every buffer of the symmetric loops is sized
+    // here for the widest of them, so that the loops themselves never allocate.
+    const int maxWidth = halfWidth(sim.dimension());
+    scatter_.layout(sim.neighbourCandidates(), n, maxWidth);
+    if (pairSum_.size() < static_cast<size_t>(n * maxWidth))
+      pairSum_.resize(static_cast<size_t>(n * maxWidth));
     layoutBuild_ = sim.neighbourBuilds();
     layoutCount_ = sim.store.size();
   }
-  scatter_.size(width);
-  if (pairSum_.size() < static_cast<size_t>(n * width)) pairSum_.resize(static_cast<size_t>(n * width));
+  scatter_.use(width);
+}
+
+int FluidModule::halfWidth(int d) const {
+  // The wall extrapolation's 2 + 2D sums; the force loop's D + 3 and the optional XSPH,
+  // shifting and transport-velocity vectors; 1 for the density summation and viscous factors.
+  const int force = d + 3 + (xsph_ > 0.0 ? d : 0) + (shifting_ > 0.0 ? d : 0) +
+                    (transportVelocity_ ? d : 0);
+  return std::max(2 + 2 * d, force);
 }
 
 // Boundary particles with a fluid neighbour (1) and fluid particles with a boundary neighbour
 // (1), from the candidate lists; the gather form flags only the former (it visits only their
 // rows), the half form visits the rows of both and skips every other row.
 template <int D>
-void FluidModule::wetFlagsHalf(Simulation& sim) {
-  auto& st = sim.store;
-  const Index n = st.realCount();
+void FluidModule::wetFlagsHalf(Simulation& sim, const Fields& f) {
+  const Index n = f.n;
   const auto& cl = sim.neighbourCandidates();
-  const std::int32_t* ph = st.data(st.phase());
-  const Index* ghostSource = st.ghostSources().data();
+  const Index* ghostSource = sim.store.ghostSources().data();
   unsigned char* wet = wetFlag_.data();
 #pragma omp parallel for schedule(static)
   for (Index i = 0; i < n; ++i) wet[i] = 0;
 #pragma omp parallel for schedule(dynamic, 512)
   for (Index i = 0; i < n; ++i) {
-    const bool fi = ph[i] == kPhaseFluid;
+    const bool fi = f.ph[i] == kPhaseFluid;
     for (auto k = cl.offset[i]; k < cl.offset[i + 1]; ++k) {
       const Index j = cl.index[static_cast<size_t>(k)];
-      if ((ph[j] == kPhaseFluid) == fi) continue;
+      if ((f.ph[j] == kPhaseFluid) == fi) continue;
       const Index b = j < n ? j : ghostSource[j - n];
 #pragma omp atomic write
       wet[b] = 1;
@@ -70,18 +80,9 @@ void FluidModule::wetFlagsHalf(Simulation& sim) {
 }
 
 template <int D>
-void FluidModule::wallExtrapolationHalf(Simulation& sim) {
-  auto& st = sim.store;
-  const Index n = st.realCount();
+void FluidModule::wallExtrapolationHalf(Simulation& sim, const Fields& f) {
+  const Index n = f.n;
   const auto& nl = sim.neighbours;
-  const double* x = st.data(st.position());
-  const double* v = st.data(st.velocity());
-  const double* rho = st.data(st.density());
-  const std::int32_t* ph = st.data(st.phase());
-  const std::int32_t* mo = st.data(sim.motion);
-  double* p = st.data(pressure);
-  double* vw = st.data(wallVelocity);
-  const double* aw = movingBoundaries_ ? st.data(boundaryAcceleration_) : nullptr;
   const unsigned char* wet = wetFlag_.data();
   Vec<D> g;
   for (int a = 0; a < D; ++a) g[a] = gravity_[static_cast<size_t>(a)];
@@ -96,30 +97,30 @@ void FluidModule::wallExtrapolationHalf(Simulation& sim) {
         scatter_.zero(t, own);
         for (Index i = scatter_.begin(t); i < scatter_.end(t); ++i) {
           if (!wet[i]) continue;  // neither a wet boundary particle nor a fluid one near it
-          const bool fi = ph[i] == kPhaseFluid;
+          const bool fi = f.ph[i] == kPhaseFluid;
           double sw = 0.0, sp = 0.0;
           Vec<D> srr = Vec<D>::Zero(), sv = Vec<D>::Zero();
           for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
             const Index j = nl.index[static_cast<size_t>(k)];
-            const bool fj = ph[j] == kPhaseFluid;
+            const bool fj = f.ph[j] == kPhaseFluid;
             if (fi == fj) continue;
             Vec<D> r;
-            for (int a = 0; a < D; ++a) r[a] = x[i * D + a] - x[j * D + a];
+            for (int a = 0; a < D; ++a) r[a] = f.x[i * D + a] - f.x[j * D + a];
             const double wk = K.value(r.norm());
             if (!fi) {  // i boundary, j fluid (real or ghost)
               sw += wk;
-              sp += p[j] * wk;
-              srr += (rho[j] * wk) * r;
-              for (int a = 0; a < D; ++a) sv[a] += v[j * D + a] * wk;
+              sp += f.p[j] * wk;
+              srr += (f.rho[j] * wk) * r;
+              for (int a = 0; a < D; ++a) sv[a] += f.v[j * D + a] * wk;
             } else if (j < n && wet[j]) {  // i fluid, j a real boundary particle
               double* tj = scatter_.at(t, own, j);
               const Vec<D> rji = -r;
               tj[0] += wk;
-              tj[1] += p[i] * wk;
-              const Vec<D> s = (rho[i] * wk) * rji;
+              tj[1] += f.p[i] * wk;
+              const Vec<D> s = (f.rho[i] * wk) * rji;
               for (int a = 0; a < D; ++a) {
                 tj[2 + a] += s[a];
-                tj[2 + D + a] += v[i * D + a] * wk;
+                tj[2 + D + a] += f.v[i * D + a] * wk;
               }
             }
           }
@@ -138,20 +139,20 @@ void FluidModule::wallExtrapolationHalf(Simulation& sim) {
       scatter_.forBlocks([&](int t) {
         scatter_.reduce(t, own);
         for (Index i = scatter_.begin(t); i < scatter_.end(t); ++i) {
-          if (ph[i] == kPhaseFluid) continue;
+          if (f.ph[i] == kPhaseFluid) continue;
           const double* ti = own + i * w;
           const double sw = wet[i] ? ti[0] : 0.0;
           if (sw > 0.0) {
             Vec<D> ga = g;  // a moving boundary: g - a_w (Adami et al. 2012, Eq. 27)
-            if (aw && mo[i] != kMotionFixed)
-              for (int a = 0; a < D; ++a) ga[a] -= aw[i * D + a];
+            if (f.aw && f.mo[i] != kMotionFixed)
+              for (int a = 0; a < D; ++a) ga[a] -= f.aw[i * D + a];
             Vec<D> srr;
             for (int a = 0; a < D; ++a) srr[a] = ti[2 + a];
-            p[i] = (ti[1] + ga.dot(srr)) / sw;
-            for (int a = 0; a < D; ++a) vw[i * D + a] = 2.0 * v[i * D + a] - ti[2 + D + a] / sw;
+            f.p[i] = (ti[1] + ga.dot(srr)) / sw;
+            for (int a = 0; a < D; ++a) f.vw[i * D + a] = 2.0 * f.v[i * D + a] - ti[2 + D + a] / sw;
           } else {
-            p[i] = 0.0;
-            for (int a = 0; a < D; ++a) vw[i * D + a] = v[i * D + a];
+            f.p[i] = 0.0;
+            for (int a = 0; a < D; ++a) f.vw[i * D + a] = f.v[i * D + a];
           }
         }
       });
@@ -160,14 +161,9 @@ void FluidModule::wallExtrapolationHalf(Simulation& sim) {
 }
 
 template <int D>
-void FluidModule::densitySummationHalf(Simulation& sim) {
-  auto& st = sim.store;
-  const Index n = st.realCount();
+void FluidModule::densitySummationHalf(Simulation& sim, const Fields& f) {
+  const Index n = f.n;
   const auto& nl = sim.neighbours;
-  const double* x = st.data(st.position());
-  const double* m = st.data(st.mass());
-  double* rho = st.data(st.density());
-  const std::int32_t* ph = st.data(st.phase());
   layoutHalf(sim, 1);
   double* own = pairSum_.data();
   const double w0 = sim.kernel.value(0.0);
@@ -177,14 +173,14 @@ void FluidModule::densitySummationHalf(Simulation& sim) {
       scatter_.forBlocks([&](int t) {
         scatter_.zero(t, own);
         for (Index i = scatter_.begin(t); i < scatter_.end(t); ++i) {
-          const bool fi = ph[i] == kPhaseFluid;
+          const bool fi = f.ph[i] == kPhaseFluid;
           double s = 0.0;
           for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
             const Index j = nl.index[static_cast<size_t>(k)];
-            const bool fj = j < n && ph[j] == kPhaseFluid;
+            const bool fj = j < n && f.ph[j] == kPhaseFluid;
             if (!fi && !fj) continue;
             Vec<D> r;
-            for (int a = 0; a < D; ++a) r[a] = x[i * D + a] - x[j * D + a];
+            for (int a = 0; a < D; ++a) r[a] = f.x[i * D + a] - f.x[j * D + a];
             const double wk = K.value(r.norm());
             s += wk;
             if (fj) *scatter_.at(t, own, j) += wk;
@@ -196,22 +192,16 @@ void FluidModule::densitySummationHalf(Simulation& sim) {
       scatter_.forBlocks([&](int t) {
         scatter_.reduce(t, own);
         for (Index i = scatter_.begin(t); i < scatter_.end(t); ++i)
-          if (ph[i] == kPhaseFluid) rho[i] = m[i] * (w0 + own[i]);
+          if (f.ph[i] == kPhaseFluid) f.rho[i] = f.m[i] * (w0 + own[i]);
       });
     }
   });
 }
 
 template <int D>
-void FluidModule::viscousFactorsHalf(Simulation& sim) {
-  auto& st = sim.store;
-  const Index n = st.realCount();
+void FluidModule::viscousFactorsHalf(Simulation& sim, const Fields& f) {
+  const Index n = f.n;
   const auto& nl = sim.neighbours;
-  const double* x = st.data(st.position());
-  const double* m = st.data(st.mass());
-  const double* rho = st.data(st.density());
-  const std::int32_t* ph = st.data(st.phase());
-  double* factor = st.data(viscousFactor);
   layoutHalf(sim, 1);
   double* own = pairSum_.data();
   sim.kernel.withFixedType<D>([&](const auto K) {
@@ -220,17 +210,17 @@ void FluidModule::viscousFactorsHalf(Simulation& sim) {
       scatter_.forBlocks([&](int t) {
         scatter_.zero(t, own);
         for (Index i = scatter_.begin(t); i < scatter_.end(t); ++i) {
-          const bool fi = ph[i] == kPhaseFluid;
+          const bool fi = f.ph[i] == kPhaseFluid;
           double moment = 0.0;  // sum_b V_b |r_ab|^2 (-F_ab), as the gather pass
           for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
             const Index j = nl.index[static_cast<size_t>(k)];
-            const bool fj = j < n && ph[j] == kPhaseFluid;
+            const bool fj = j < n && f.ph[j] == kPhaseFluid;
             if (!fi && !fj) continue;
             Vec<D> r;
-            for (int a = 0; a < D; ++a) r[a] = x[i * D + a] - x[j * D + a];
+            for (int a = 0; a < D; ++a) r[a] = f.x[i * D + a] - f.x[j * D + a];
             const double r2 = r.squaredNorm(), F = K.F(r.norm());
-            if (fi) moment -= (m[j] / rho[j]) * r2 * F;
-            if (fj) *scatter_.at(t, own, j) -= (m[i] / rho[i]) * r2 * F;
+            if (fi) moment -= (f.m[j] / f.rho[j]) * r2 * F;
+            if (fj) *scatter_.at(t, own, j) -= (f.m[i] / f.rho[i]) * r2 * F;
           }
           own[i] += moment;
         }
@@ -239,31 +229,17 @@ void FluidModule::viscousFactorsHalf(Simulation& sim) {
       scatter_.forBlocks([&](int t) {
         scatter_.reduce(t, own);
         for (Index i = scatter_.begin(t); i < scatter_.end(t); ++i)
-          factor[i] = ph[i] == kPhaseFluid && own[i] > 0.5 * D ? D / own[i] : 1.0;
+          f.visc[i] = f.ph[i] == kPhaseFluid && own[i] > 0.5 * D ? D / own[i] : 1.0;
       });
     }
   });
 }
 
 template <int D>
-void FluidModule::forceLoopHalf(Simulation& sim, double uShift, const double* wallRho) {
-  auto& st = sim.store;
-  const Index n = st.realCount();
+void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
+                                const double* wallRho) {
+  const Index n = f.n;
   const auto& nl = sim.neighbours;
-  const double* x = st.data(st.position());
-  const double* v = st.data(st.velocity());
-  const double* m = st.data(st.mass());
-  const double* rho = st.data(st.density());
-  const double* p = st.data(pressure);
-  const double* vw = st.data(wallVelocity);
-  const std::int32_t* ph = st.data(st.phase());
-  const std::int32_t* mt = st.data(st.material());
-  const std::int32_t* mo = st.data(sim.motion);
-  double* acc = st.data(sim.acceleration);
-  double* drho = summation_ ? nullptr : st.data(densityRate);
-  double* corrRate = positionCorrection.valid() ? st.data(positionCorrection) : nullptr;
-  double* nextFactor = normaliseViscosity_ ? st.data(viscousFactorNext) : nullptr;
-  const double* visc = normaliseViscosity_ ? st.data(viscousFactor) : nullptr;
   const bool xsphOn = xsph_ > 0.0, shiftOn = shifting_ > 0.0, tvOn = transportVelocity_;
   const double pOff = pressureReference_ ? backgroundPressure_ : 0.0;
   const double tvScale = tvOn ? sim.dt * backgroundPressure_ : 0.0;
@@ -299,8 +275,8 @@ void FluidModule::forceLoopHalf(Simulation& sim, double uShift, const double* wa
   unsigned char* recvW = receives_.data();
 #pragma omp parallel for schedule(static)
   for (Index i = 0; i < n; ++i) {
-    const int id = mt[i];
-    recvW[i] = ph[i] == kPhaseFluid && mo[i] != kMotionFixed && id >= 0 && id < nm && md[id].fluid;
+    const int id = f.mt[i];
+    recvW[i] = f.ph[i] == kPhaseFluid && f.mo[i] != kMotionFixed && id >= 0 && id < nm && md[id].fluid;
   }
   const unsigned char* recv = recvW;
   auto receives = [recv](Index i) { return recv[i] != 0; };
@@ -315,15 +291,15 @@ void FluidModule::forceLoopHalf(Simulation& sim, double uShift, const double* wa
       scatter_.forBlocks([&](int t) {
         scatter_.zero(t, own);
         for (Index i = scatter_.begin(t); i < scatter_.end(t); ++i) {
-          const bool fluidA = ph[i] == kPhaseFluid, wallA = ph[i] == kPhaseWall;
+          const bool fluidA = f.ph[i] == kPhaseFluid, wallA = f.ph[i] == kPhaseWall;
           if (!fluidA && !wet[i]) continue;
           const bool recA = receives(i);
-          const int ida = mt[i];
-          const double rhoa = rho[i], pa = p[i], Va = m[i] / rhoa, ma = m[i];
-          const double fa = visc ? visc[i] : 1.0;
+          const int ida = f.mt[i];
+          const double rhoa = f.rho[i], pa = f.p[i], Va = f.m[i] / rhoa, ma = f.m[i];
+          const double fa = f.visc ? f.visc[i] : 1.0;
           const MaterialData* mA = valid(ida) ? &md[ida] : nullptr;
           Vec<D> va;
-          for (int a = 0; a < D; ++a) va[a] = v[i * D + a];
+          for (int a = 0; a < D; ++a) va[a] = f.v[i * D + a];
           Vec<D> accA = Vec<D>::Zero(), dvXA = Vec<D>::Zero(), gradCA = Vec<D>::Zero(),
                  tvA = Vec<D>::Zero();
           double divA = 0.0, diffA = 0.0, momA = 0.0;
@@ -332,12 +308,12 @@ void FluidModule::forceLoopHalf(Simulation& sim, double uShift, const double* wa
             const bool recB = j < n && receives(j);
             if (!recA && !recB) continue;
             Vec<D> r;
-            for (int a = 0; a < D; ++a) r[a] = x[i * D + a] - x[j * D + a];
+            for (int a = 0; a < D; ++a) r[a] = f.x[i * D + a] - f.x[j * D + a];
             const double F = K.F(r.norm());
             if (F == 0.0) continue;
             const Vec<D> gradW = F * r;  // grad_a W_ab; grad_b W_ba = -gradW
             Vec<D> vb;
-            for (int a = 0; a < D; ++a) vb[a] = v[j * D + a];
+            for (int a = 0; a < D; ++a) vb[a] = f.v[j * D + a];
             double* tb = recB ? scatter_.at(t, own, j) : nullptr;
             const double r2 = r.squaredNorm();
             // Every neighbour: the viscous moment for the next factor, shifting and transport
@@ -345,19 +321,19 @@ void FluidModule::forceLoopHalf(Simulation& sim, double uShift, const double* wa
             if (recA) momA -= vol[j] * r2 * F;
             if (recB) tb[kMom] -= vol[i] * r2 * F;
             if (shiftOn) {
-              if (recA) gradCA += (m[j] / rho[j]) * gradW;
+              if (recA) gradCA += (f.m[j] / f.rho[j]) * gradW;
               if (recB)
-                for (int a = 0; a < D; ++a) tb[kC + a] -= (m[i] / rho[i]) * gradW[a];
+                for (int a = 0; a < D; ++a) tb[kC + a] -= (f.m[i] / f.rho[i]) * gradW[a];
             }
             if (tvOn) {
-              const double Vb = m[j] / rho[j];
+              const double Vb = f.m[j] / f.rho[j];
               if (recA) tvA += (Va * Va + Vb * Vb) * gradW;
               if (recB) {
                 const Vec<D> s = (Vb * Vb + Va * Va) * gradW;
                 for (int a = 0; a < D; ++a) tb[kT + a] -= s[a];
               }
             }
-            const bool fluidB = ph[j] == kPhaseFluid, wallB = ph[j] == kPhaseWall;
+            const bool fluidB = f.ph[j] == kPhaseFluid, wallB = f.ph[j] == kPhaseWall;
             // Fluid-wall pairs: the shared pair terms, for the fluid side only (walls are fixed).
             if (recA && wallB) {
               FluidPairSide<D> sa;
@@ -367,11 +343,11 @@ void FluidModule::forceLoopHalf(Simulation& sim, double uShift, const double* wa
               sa.props = mA;
               sa.v = va;
               BoundaryPairSide<D> sb;
-              sb.p = p[j];
+              sb.p = f.p[j];
               sb.volume = vol[j];
               sb.rho = wallRho ? wallRho[j] : 0.0;
               sb.v = vb;
-              for (int a = 0; a < D; ++a) sb.vNoSlip[a] = vw[j * D + a];
+              for (int a = 0; a < D; ++a) sb.vNoSlip[a] = f.vw[j * D + a];
               const FluidPairResult<D> tr = fluidBoundaryPair<D>(r, F, sa, sb, pairSettings);
               accA += tr.pressure;
               accA += fa * tr.viscous;
@@ -379,11 +355,11 @@ void FluidModule::forceLoopHalf(Simulation& sim, double uShift, const double* wa
               divA += tr.divergence;
             }
             if (recB && wallA) {
-              const int idb = mt[j];
+              const int idb = f.mt[j];
               FluidPairSide<D> sa;
-              sa.m = m[j];
-              sa.rho = rho[j];
-              sa.p = p[j];
+              sa.m = f.m[j];
+              sa.rho = f.rho[j];
+              sa.p = f.p[j];
               sa.props = &md[idb];
               sa.v = vb;
               BoundaryPairSide<D> sb;
@@ -391,10 +367,10 @@ void FluidModule::forceLoopHalf(Simulation& sim, double uShift, const double* wa
               sb.volume = vol[i];
               sb.rho = wallRho ? wallRho[i] : 0.0;
               sb.v = va;
-              for (int a = 0; a < D; ++a) sb.vNoSlip[a] = vw[i * D + a];
+              for (int a = 0; a < D; ++a) sb.vNoSlip[a] = f.vw[i * D + a];
               const Vec<D> rji = -r;
               const FluidPairResult<D> tr = fluidBoundaryPair<D>(rji, F, sa, sb, pairSettings);
-              const double fb = visc ? visc[j] : 1.0;
+              const double fb = f.visc ? f.visc[j] : 1.0;
               const Vec<D> s = tr.pressure + fb * tr.viscous + tr.artificial;
               for (int a = 0; a < D; ++a) tb[a] += s[a];
               tb[kDiv] += tr.divergence;
@@ -402,15 +378,15 @@ void FluidModule::forceLoopHalf(Simulation& sim, double uShift, const double* wa
             if (!(fluidA && fluidB)) continue;  // fluid-solid / fluid-rigid: the coupling's
             // Fluid-fluid pair (Eqs. 5.1a, 5.2b / Hu-Adams, 5.4, 2.64): each side's term as the
             // gather loop writes it for that side.
-            const int idb = mt[j];
+            const int idb = f.mt[j];
             const MaterialData* mB = valid(idb) ? &md[idb] : nullptr;
-            const double rhob = rho[j], pb = p[j], Vb = vol[j], mb = m[j];
+            const double rhob = f.rho[j], pb = f.p[j], Vb = vol[j], mb = f.m[j];
             const double muA = mA ? mA->viscosity : (mB ? mB->viscosity : 0.0);
             const double muB = mB ? mB->viscosity : muA;
             const double muBar =
                 muA + muB > 0.0 ? (harmonicMean_ ? 4.0 * muA * muB / (muA + muB) : muA + muB)
                                 : 0.0;
-            const double fab = 0.5 * (fa + (visc ? visc[j] : 1.0));
+            const double fab = 0.5 * (fa + (f.visc ? f.visc[j] : 1.0));
             const Vec<D> vab = va - vb;
             const double vabGradW = vab.dot(gradW);  // = v_ba . grad_b W_ba
             if (delta > 0.0 && idb == ida) {  // Molteni-Colagrossi density diffusion
@@ -462,30 +438,30 @@ void FluidModule::forceLoopHalf(Simulation& sim, double uShift, const double* wa
       scatter_.forBlocks([&](int t) {
         scatter_.reduce(t, own);
         for (Index i = scatter_.begin(t); i < scatter_.end(t); ++i) {
-          if (nextFactor) nextFactor[i] = 1.0;
+          if (f.nextFactor) f.nextFactor[i] = 1.0;
           if (!receives(i)) continue;
           const double* ti = own + i * w;
-          const MaterialData& ma = md[mt[i]];
+          const MaterialData& ma = md[f.mt[i]];
           const double moment = ti[kMom];
-          if (nextFactor) nextFactor[i] = moment > 0.5 * D ? D / moment : 1.0;
+          if (f.nextFactor) f.nextFactor[i] = moment > 0.5 * D ? D / moment : 1.0;
           Vec<D> ai;
           for (int a = 0; a < D; ++a) ai[a] = ti[a] + g[a];
           for (const BodyForce& b : bodyForces_) {
             bool inside = true;
             for (int a = 0; a < D; ++a)
-              inside = inside && x[i * D + a] >= b.lo[static_cast<size_t>(a)] &&
-                       x[i * D + a] <= b.hi[static_cast<size_t>(a)];
+              inside = inside && f.x[i * D + a] >= b.lo[static_cast<size_t>(a)] &&
+                       f.x[i * D + a] <= b.hi[static_cast<size_t>(a)];
             if (inside)
               for (int a = 0; a < D; ++a) ai[a] += b.acceleration[static_cast<size_t>(a)];
           }
-          for (int a = 0; a < D; ++a) acc[i * D + a] += ai[a];
-          if (drho) drho[i] += rho[i] * ti[kDiv] + delta * h * ma.soundSpeed * ti[kDiff];
-          if (corrRate) {  // XSPH, transport velocity, shifting: as the gather loop
+          for (int a = 0; a < D; ++a) f.acc[i * D + a] += ai[a];
+          if (f.drho) f.drho[i] += f.rho[i] * ti[kDiv] + delta * h * ma.soundSpeed * ti[kDiff];
+          if (f.corrRate) {  // XSPH, transport velocity, shifting: as the gather loop
             Vec<D> dv = Vec<D>::Zero();
             if (xsphOn)
               for (int a = 0; a < D; ++a) dv[a] = xsph_ * ti[kX + a];
             if (tvOn)
-              for (int a = 0; a < D; ++a) dv[a] -= (tvScale / m[i]) * ti[kT + a];
+              for (int a = 0; a < D; ++a) dv[a] -= (tvScale / f.m[i]) * ti[kT + a];
             if (shiftOn) {
               Vec<D> ds;
               for (int a = 0; a < D; ++a) ds[a] = -shifting_ * h * uShift * ti[kC + a];
@@ -493,7 +469,7 @@ void FluidModule::forceLoopHalf(Simulation& sim, double uShift, const double* wa
               if (len > cap) ds *= cap / len;
               dv += ds;
             }
-            for (int a = 0; a < D; ++a) corrRate[i * D + a] += dv[a];
+            for (int a = 0; a < D; ++a) f.corrRate[i * D + a] += dv[a];
           }
         }
       });
@@ -518,11 +494,11 @@ double FluidModule::deferredBytesPerParticle(const Simulation& sim, double,
 }
 
 #define PORESPH_FLUID_HALF(D)                                                                 \
-  template void FluidModule::wetFlagsHalf<D>(Simulation&);                                    \
-  template void FluidModule::wallExtrapolationHalf<D>(Simulation&);                           \
-  template void FluidModule::densitySummationHalf<D>(Simulation&);                            \
-  template void FluidModule::viscousFactorsHalf<D>(Simulation&);                              \
-  template void FluidModule::forceLoopHalf<D>(Simulation&, double, const double*);
+  template void FluidModule::wetFlagsHalf<D>(Simulation&, const Fields&);                     \
+  template void FluidModule::wallExtrapolationHalf<D>(Simulation&, const Fields&);            \
+  template void FluidModule::densitySummationHalf<D>(Simulation&, const Fields&);             \
+  template void FluidModule::viscousFactorsHalf<D>(Simulation&, const Fields&);               \
+  template void FluidModule::forceLoopHalf<D>(Simulation&, const Fields&, double, const double*);
 PORESPH_FLUID_HALF(1)
 PORESPH_FLUID_HALF(2)
 PORESPH_FLUID_HALF(3)

@@ -390,6 +390,29 @@ void FluidModule::initialiseHydrostatic(Simulation& sim) {
 // ---------------------------------------------------------------------------------------------
 // stages
 
+FluidModule::Fields FluidModule::fields(Simulation& sim) const {
+  auto& st = sim.store;
+  Fields f;
+  f.n = st.realCount();
+  f.nAll = st.size();
+  f.x = st.data(st.position());
+  f.v = st.data(st.velocity());
+  f.m = st.data(st.mass());
+  f.rho = st.data(st.density());
+  f.p = st.data(pressure);
+  f.vw = st.data(wallVelocity);
+  f.acc = st.data(sim.acceleration);
+  f.ph = st.data(st.phase());
+  f.mt = st.data(st.material());
+  f.mo = st.data(sim.motion);
+  f.drho = summation_ ? nullptr : st.data(densityRate);
+  f.corrRate = positionCorrection.valid() ? st.data(positionCorrection) : nullptr;
+  f.visc = normaliseViscosity_ ? st.data(viscousFactor) : nullptr;
+  f.nextFactor = normaliseViscosity_ ? st.data(viscousFactorNext) : nullptr;
+  f.aw = movingBoundaries_ ? st.data(boundaryAcceleration_) : nullptr;
+  return f;
+}
+
 void FluidModule::kinematics(Simulation& sim) {
   dispatchDimension(dim_, [&](auto dc) { this->template kinematicsD<decltype(dc)::value>(sim); });
 }
@@ -403,32 +426,29 @@ void FluidModule::forces(Simulation& sim) {
 template <int D>
 void FluidModule::kinematicsD(Simulation& sim) {
   auto& st = sim.store;
-  const Index n = st.realCount();
+  const Fields f = fields(sim);
+  const Index n = f.n;
   const auto& nl = sim.neighbours;
   const Kernel& W = sim.kernel;
-  const double* x = st.data(st.position());
-  const double* m = st.data(st.mass());
-  double* rho = st.data(st.density());
-  const std::int32_t* ph = st.data(st.phase());
 
   // Density summation (option; number-density form rho_a = m_a sum_b W_ab, Hu & Adams, so that
   // it holds across a density jump; boundary particles count as full neighbours).
   if (summation_ && nl.half) {
-    densitySummationHalf<D>(sim);  // fluid_half.cpp
+    densitySummationHalf<D>(sim, f);  // fluid_half.cpp
     st.refreshGhosts(st.density());
   } else if (summation_) {
     const double w0 = W.value(0.0);
 #pragma omp parallel for schedule(static)
     for (Index i = 0; i < n; ++i) {
-      if (ph[i] != kPhaseFluid) continue;
+      if (f.ph[i] != kPhaseFluid) continue;
       double s = w0;
       for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
         const Index j = nl.index[static_cast<size_t>(k)];
         Vec<D> r;
-        for (int a = 0; a < D; ++a) r[a] = x[i * D + a] - x[j * D + a];
+        for (int a = 0; a < D; ++a) r[a] = f.x[i * D + a] - f.x[j * D + a];
         s += W.value(r.norm());
       }
-      rho[i] = m[i] * s;
+      f.rho[i] = f.m[i] * s;
     }
     st.refreshGhosts(st.density());
   }
@@ -444,16 +464,16 @@ void FluidModule::kinematicsD(Simulation& sim) {
   for (Index i = 0; i < n; ++i) {
     Vec<D> g = Vec<D>::Zero();
     int flag = 0;
-    if (ph[i] == kPhaseFluid) {
+    if (f.ph[i] == kPhaseFluid) {
       for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
         const Index j = nl.index[static_cast<size_t>(k)];
         const double dc = col[j] - col[i];
         if (dc == 0.0) continue;
-        if (ph[j] != kPhaseFluid && (!wallWetting_ || wettingNormal_)) continue;
+        if (f.ph[j] != kPhaseFluid && (!wallWetting_ || wettingNormal_)) continue;
         flag = 1;
         Vec<D> r;
-        for (int a = 0; a < D; ++a) r[a] = x[i * D + a] - x[j * D + a];
-        const double Vj = m[j] / rho[j];
+        for (int a = 0; a < D; ++a) r[a] = f.x[i * D + a] - f.x[j * D + a];
+        const double Vj = f.m[j] / f.rho[j];
         // Unweighted Eq. 5.7: the normal and its curvature (5.8) are those of the colour field on
         // both sides of the interface; the density weighting 2 rho_a / (rho_a + rho_b) of the
         // force is applied in the force stage (weighting the normal here would leave only the
@@ -479,7 +499,7 @@ void FluidModule::kinematicsD(Simulation& sim) {
     const double scale = wettingScale_;
 #pragma omp parallel for schedule(static)
     for (Index i = 0; i < n; ++i) {
-      if (ph[i] != kPhaseFluid || !itf[i]) continue;
+      if (f.ph[i] != kPhaseFluid || !itf[i]) continue;
       Vec<D> ni;
       for (int a = 0; a < D; ++a) ni[a] = ng[i * D + a];
       const double nn = ni.norm();
@@ -488,11 +508,11 @@ void FluidModule::kinematicsD(Simulation& sim) {
       Vec<D> nw = Vec<D>::Zero();
       for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
         const Index j = nl.index[static_cast<size_t>(k)];
-        if (ph[j] == kPhaseFluid) continue;
+        if (f.ph[j] == kPhaseFluid) continue;
         Vec<D> r;
-        for (int a = 0; a < D; ++a) r[a] = x[i * D + a] - x[j * D + a];
+        for (int a = 0; a < D; ++a) r[a] = f.x[i * D + a] - f.x[j * D + a];
         const double rn = r.norm();
-        const double Vj = m[j] / rho[j];
+        const double Vj = f.m[j] / f.rho[j];
         const double w = Vj * W.value(rn);
         chi += w;
         cw += w * col[j];
@@ -528,16 +548,16 @@ void FluidModule::kinematicsD(Simulation& sim) {
         const double halfDx = 0.5 * (sim.spacing > 0.0 ? sim.spacing : W.h());
         const Vec<D> uo = mn / mnn;
         Vec<D> xI;
-        for (int a = 0; a < D; ++a) xI[a] = x[i * D + a] + col[i] * halfDx * uo[a];
+        for (int a = 0; a < D; ++a) xI[a] = f.x[i * D + a] + col[i] * halfDx * uo[a];
         Vec<D> gt = ni;
         for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
           const Index j = nl.index[static_cast<size_t>(k)];
-          if (ph[j] == kPhaseFluid) continue;
+          if (f.ph[j] == kPhaseFluid) continue;
           Vec<D> r, d;
-          for (int a = 0; a < D; ++a) r[a] = x[i * D + a] - x[j * D + a], d[a] = x[j * D + a] - xI[a];
+          for (int a = 0; a < D; ++a) r[a] = f.x[i * D + a] - f.x[j * D + a], d[a] = f.x[j * D + a] - xI[a];
           const double dc = (d.dot(uo) < 0.0 ? 1.0 : -1.0) - col[i];
           if (dc == 0.0) continue;
-          gt += (m[j] / rho[j] * dc * W.F(r.norm())) * r;
+          gt += (f.m[j] / f.rho[j] * dc * W.F(r.norm())) * r;
         }
         mag = (1.0 - sw) * nn + sw * gt.norm();  // the same blend as the direction
       }
@@ -557,7 +577,7 @@ void FluidModule::kinematicsD(Simulation& sim) {
 #pragma omp parallel for schedule(static)
   for (Index i = 0; i < n; ++i) {
     kap[i] = 0.0;
-    if (!itf[i] || ph[i] != kPhaseFluid) continue;
+    if (!itf[i] || f.ph[i] != kPhaseFluid) continue;
     Vec<D> ni;
     for (int a = 0; a < D; ++a) ni[a] = ng[i * D + a];
     const double nn = ni.norm();
@@ -569,14 +589,14 @@ void FluidModule::kinematicsD(Simulation& sim) {
     Mat<D> G = Mat<D>::Zero(), M = Mat<D>::Zero();
     for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
       const Index j = nl.index[static_cast<size_t>(k)];
-      if (ph[j] != kPhaseFluid || !itf[j]) continue;
+      if (f.ph[j] != kPhaseFluid || !itf[j]) continue;
       Vec<D> nj;
       for (int a = 0; a < D; ++a) nj[a] = ng[j * D + a];
       const double nnj = nj.norm();
       if (nnj <= thr) continue;
       Vec<D> r;
-      for (int a = 0; a < D; ++a) r[a] = x[i * D + a] - x[j * D + a];
-      const double Vj = m[j] / rho[j];
+      for (int a = 0; a < D; ++a) r[a] = f.x[i * D + a] - f.x[j * D + a];
+      const double Vj = f.m[j] / f.rho[j];
       const double F = W.F(r.norm());
       G += (Vj * F) * (nj / nnj - ui) * r.transpose();
       M -= (Vj * F) * r * r.transpose();
@@ -595,11 +615,8 @@ void FluidModule::kinematicsD(Simulation& sim) {
 template <int D>
 void FluidModule::constitutiveD(Simulation& sim) {
   auto& st = sim.store;
-  const Index n = st.realCount();
-  const double* rho = st.data(st.density());
-  const std::int32_t* ph = st.data(st.phase());
-  const std::int32_t* mt = st.data(st.material());
-  double* p = st.data(pressure);
+  const Fields f = fields(sim);
+  const Index n = f.n;
   const MaterialData* md = mat_.data();
   const int nm = static_cast<int>(mat_.size());
 
@@ -607,11 +624,11 @@ void FluidModule::constitutiveD(Simulation& sim) {
   double maxVar = 0.0;
 #pragma omp parallel for schedule(static) reduction(max : maxVar)
   for (Index i = 0; i < n; ++i) {
-    if (ph[i] != kPhaseFluid) continue;
-    const int id = mt[i];
+    if (f.ph[i] != kPhaseFluid) continue;
+    const int id = f.mt[i];
     if (id < 0 || id >= nm || !md[id].fluid) continue;
-    p[i] = pressureOf(md[id], rho[i]);
-    maxVar = std::max(maxVar, std::abs(rho[i] - md[id].rho0) / md[id].rho0);
+    f.p[i] = pressureOf(md[id], f.rho[i]);
+    maxVar = std::max(maxVar, std::abs(f.rho[i] - md[id].rho0) / md[id].rho0);
   }
   maxVariation_ = maxVar;
   if (maxVar > densityBound_) {
@@ -633,11 +650,6 @@ void FluidModule::constitutiveD(Simulation& sim) {
   //   v~_w = 2 v_w - sum_f v_f W_wf / sum_f W_wf   (no-slip in the viscous term).
   const auto& nl = sim.neighbours;
   const Kernel& W = sim.kernel;
-  const double* x = st.data(st.position());
-  const double* v = st.data(st.velocity());
-  double* vw = st.data(wallVelocity);
-  const double* aw = movingBoundaries_ ? st.data(boundaryAcceleration_) : nullptr;
-  const std::int32_t* mo = st.data(sim.motion);
   Vec<D> g;
   for (int a = 0; a < D; ++a) g[a] = gravity_[static_cast<size_t>(a)];
   // Only boundary particles with a fluid neighbour are extrapolated (issue 17): they are
@@ -654,53 +666,59 @@ void FluidModule::constitutiveD(Simulation& sim) {
     wetCount_ = st.size();
     const auto& cl = sim.neighbourCandidates();
     const Index* ghostSource = st.ghostSources().data();
-    if (cl.half) wetFlagsHalf<D>(sim);  // fluid_half.cpp
+    if (cl.half) {
+      wetFlagsHalf<D>(sim, f);  // fluid_half.cpp
+    } else {
 #pragma omp parallel for schedule(static)
-    for (Index i = 0; i < (cl.half ? 0 : n); ++i) wet[i] = 0;
+      for (Index i = 0; i < n; ++i) wet[i] = 0;
 #pragma omp parallel for schedule(static)
-    for (Index i = 0; i < (cl.half ? 0 : n); ++i) {
-      if (ph[i] != kPhaseFluid) continue;
-      for (auto k = cl.offset[i]; k < cl.offset[i + 1]; ++k) {
-        const Index j = cl.index[static_cast<size_t>(k)];
-        if (ph[j] == kPhaseFluid) continue;
-        const Index b = j < n ? j : ghostSource[j - n];
+      for (Index i = 0; i < n; ++i) {
+        if (f.ph[i] != kPhaseFluid) continue;
+        for (auto k = cl.offset[i]; k < cl.offset[i + 1]; ++k) {
+          const Index j = cl.index[static_cast<size_t>(k)];
+          if (f.ph[j] == kPhaseFluid) continue;
+          const Index b = j < n ? j : ghostSource[j - n];
 #pragma omp atomic write
-        wet[b] = 1;
+          wet[b] = 1;
+        }
       }
     }
   }
-  if (nl.half) wallExtrapolationHalf<D>(sim);  // fluid_half.cpp
+  if (nl.half) {
+    wallExtrapolationHalf<D>(sim, f);  // fluid_half.cpp
+  } else {
 #pragma omp parallel for schedule(dynamic, 512)
-  for (Index i = 0; i < (nl.half ? 0 : n); ++i) {
-    if (ph[i] == kPhaseFluid) continue;
-    if (!wet[i]) {
-      p[i] = 0.0;
-      for (int a = 0; a < D; ++a) vw[i * D + a] = v[i * D + a];
-      continue;
-    }
-    // A moving boundary: g - a_w (Adami et al. 2012, Eq. 27), a_w of the last evaluation.
-    Vec<D> ga = g;
-    if (aw && mo[i] != kMotionFixed)
-      for (int a = 0; a < D; ++a) ga[a] -= aw[i * D + a];
-    double sw = 0.0, sp = 0.0;
-    Vec<D> srr = Vec<D>::Zero(), sv = Vec<D>::Zero();
-    for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
-      const Index j = nl.index[static_cast<size_t>(k)];
-      if (ph[j] != kPhaseFluid) continue;
-      Vec<D> r;
-      for (int a = 0; a < D; ++a) r[a] = x[i * D + a] - x[j * D + a];
-      const double w = W.value(r.norm());
-      sw += w;
-      sp += p[j] * w;
-      srr += (rho[j] * w) * r;
-      for (int a = 0; a < D; ++a) sv[a] += v[j * D + a] * w;
-    }
-    if (sw > 0.0) {
-      p[i] = (sp + ga.dot(srr)) / sw;
-      for (int a = 0; a < D; ++a) vw[i * D + a] = 2.0 * v[i * D + a] - sv[a] / sw;
-    } else {
-      p[i] = 0.0;
-      for (int a = 0; a < D; ++a) vw[i * D + a] = v[i * D + a];
+    for (Index i = 0; i < n; ++i) {
+      if (f.ph[i] == kPhaseFluid) continue;
+      if (!wet[i]) {
+        f.p[i] = 0.0;
+        for (int a = 0; a < D; ++a) f.vw[i * D + a] = f.v[i * D + a];
+        continue;
+      }
+      // A moving boundary: g - a_w (Adami et al. 2012, Eq. 27), a_w of the last evaluation.
+      Vec<D> ga = g;
+      if (f.aw && f.mo[i] != kMotionFixed)
+        for (int a = 0; a < D; ++a) ga[a] -= f.aw[i * D + a];
+      double sw = 0.0, sp = 0.0;
+      Vec<D> srr = Vec<D>::Zero(), sv = Vec<D>::Zero();
+      for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
+        const Index j = nl.index[static_cast<size_t>(k)];
+        if (f.ph[j] != kPhaseFluid) continue;
+        Vec<D> r;
+        for (int a = 0; a < D; ++a) r[a] = f.x[i * D + a] - f.x[j * D + a];
+        const double w = W.value(r.norm());
+        sw += w;
+        sp += f.p[j] * w;
+        srr += (f.rho[j] * w) * r;
+        for (int a = 0; a < D; ++a) sv[a] += f.v[j * D + a] * w;
+      }
+      if (sw > 0.0) {
+        f.p[i] = (sp + ga.dot(srr)) / sw;
+        for (int a = 0; a < D; ++a) f.vw[i * D + a] = 2.0 * f.v[i * D + a] - sv[a] / sw;
+      } else {
+        f.p[i] = 0.0;
+        for (int a = 0; a < D; ++a) f.vw[i * D + a] = f.v[i * D + a];
+      }
     }
   }
   st.refreshGhosts(pressure);
@@ -710,21 +728,10 @@ void FluidModule::constitutiveD(Simulation& sim) {
 template <int D>
 void FluidModule::forcesD(Simulation& sim) {
   auto& st = sim.store;
-  const Index n = st.realCount();
+  const Fields f = fields(sim);
+  const Index n = f.n;
   const auto& nl = sim.neighbours;
   const Kernel& W = sim.kernel;
-  const double* x = st.data(st.position());
-  const double* v = st.data(st.velocity());
-  const double* m = st.data(st.mass());
-  const double* rho = st.data(st.density());
-  const double* p = st.data(pressure);
-  const double* vw = st.data(wallVelocity);
-  const std::int32_t* ph = st.data(st.phase());
-  const std::int32_t* mt = st.data(st.material());
-  const std::int32_t* mo = st.data(sim.motion);
-  double* acc = st.data(sim.acceleration);
-  double* drho = summation_ ? nullptr : st.data(densityRate);
-  double* corrRate = positionCorrection.valid() ? st.data(positionCorrection) : nullptr;
   const bool xsphOn = xsph_ > 0.0, shiftOn = shifting_ > 0.0, tvOn = transportVelocity_;
   const double pOff = pressureReference_ ? backgroundPressure_ : 0.0;
   // Transport velocity (Adami et al. 2013): particles move with v + dt a_b,
@@ -736,9 +743,9 @@ void FluidModule::forcesD(Simulation& sim) {
   if (shiftOn) {
 #pragma omp parallel for schedule(static) reduction(max : uShift)
     for (Index i = 0; i < n; ++i) {
-      if (ph[i] != kPhaseFluid) continue;
+      if (f.ph[i] != kPhaseFluid) continue;
       double v2 = 0.0;
-      for (int a = 0; a < D; ++a) v2 += v[i * D + a] * v[i * D + a];
+      for (int a = 0; a < D; ++a) v2 += f.v[i * D + a] * f.v[i * D + a];
       uShift = std::max(uShift, std::sqrt(v2));
     }
   }
@@ -766,28 +773,28 @@ void FluidModule::forcesD(Simulation& sim) {
   // run computes them in a pass of their own. They are checkpointed, so a restart continues
   // with the same factors.
   if (normaliseViscosity_ && !viscousFactorsReady_) {
-    double* factor = st.data(viscousFactor);
-    if (nl.half) viscousFactorsHalf<D>(sim);  // fluid_half.cpp
+    if (nl.half) {
+      viscousFactorsHalf<D>(sim, f);  // fluid_half.cpp
+    } else {
 #pragma omp parallel for schedule(static)
-    for (Index i = 0; i < (nl.half ? 0 : n); ++i) {
-      if (ph[i] != kPhaseFluid) {
-        factor[i] = 1.0;
-        continue;
+      for (Index i = 0; i < n; ++i) {
+        if (f.ph[i] != kPhaseFluid) {
+          f.visc[i] = 1.0;
+          continue;
+        }
+        double moment = 0.0;  // sum_b V_b |r_ab|^2 (-F_ab) over every neighbour
+        for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
+          const Index j = nl.index[static_cast<size_t>(k)];
+          Vec<D> r;
+          for (int a = 0; a < D; ++a) r[a] = f.x[i * D + a] - f.x[j * D + a];
+          moment -= (f.m[j] / f.rho[j]) * r.squaredNorm() * W.F(r.norm());
+        }
+        f.visc[i] = moment > 0.5 * D ? D / moment : 1.0;
       }
-      double moment = 0.0;  // sum_b V_b |r_ab|^2 (-F_ab) over every neighbour
-      for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
-        const Index j = nl.index[static_cast<size_t>(k)];
-        Vec<D> r;
-        for (int a = 0; a < D; ++a) r[a] = x[i * D + a] - x[j * D + a];
-        moment -= (m[j] / rho[j]) * r.squaredNorm() * W.F(r.norm());
-      }
-      factor[i] = moment > 0.5 * D ? D / moment : 1.0;
     }
     st.refreshGhosts(viscousFactor);
     viscousFactorsReady_ = true;
   }
-  double* nextFactor = normaliseViscosity_ ? st.data(viscousFactorNext) : nullptr;
-  const double* visc = normaliseViscosity_ ? st.data(viscousFactor) : nullptr;
   const FluidPairSettings pairSettings = sim.fluidPairSettings;
 
   // The pair loop with the kernel type fixed at compile time (one switch per loop, not per
@@ -810,187 +817,190 @@ void FluidModule::forcesD(Simulation& sim) {
   double* wallRhoW = single ? wallRho_.data() : nullptr;
 #pragma omp parallel for schedule(static)
   for (Index j = 0; j < nAll; ++j) {
-    volW[j] = m[j] / rho[j];
-    pRho2W[j] = (p[j] - pOff) / (rho[j] * rho[j]);  // Eq. 5.2b's p_b / rho_b^2
-    if (wallRhoW) wallRhoW[j] = ph[j] == kPhaseFluid ? 0.0 : densityOf(*single, p[j]);
+    volW[j] = f.m[j] / f.rho[j];
+    pRho2W[j] = (f.p[j] - pOff) / (f.rho[j] * f.rho[j]);  // Eq. 5.2b's p_b / rho_b^2
+    if (wallRhoW) wallRhoW[j] = f.ph[j] == kPhaseFluid ? 0.0 : densityOf(*single, f.p[j]);
   }
   const double* vol = volW;
   const double* pRho2 = pRho2W;
   const double* wallRho = wallRhoW;
-  if (nl.half) forceLoopHalf<D>(sim, uShift, wallRho);  // fluid_half.cpp
   const FluidFluidOptions ffOptions{huAdams, pOff, artificialViscosity_, h};
-  if (!nl.half) W.withFixedType<D>([&](const auto K) {
+  if (nl.half) {
+    forceLoopHalf<D>(sim, f, uShift, wallRho);  // fluid_half.cpp
+  } else {
+    W.withFixedType<D>([&](const auto K) {
 #pragma omp parallel for schedule(dynamic, 256)
-  for (Index i = 0; i < n; ++i) {
-    if (nextFactor) nextFactor[i] = 1.0;
-    if (ph[i] != kPhaseFluid || mo[i] == kMotionFixed) continue;
-    const int ida = mt[i];
-    if (ida < 0 || ida >= nm || !md[ida].fluid) continue;
-    const MaterialData& ma = md[ida];
-    const double rhoa = rho[i], pa = p[i], mua = ma.viscosity;
-    const double Va = m[i] / rhoa;
-    const double fa = visc ? visc[i] : 1.0;
-    double moment = 0.0;
-    FluidPairSide<D> sideA;
-    sideA.m = m[i];
-    sideA.rho = rhoa;
-    sideA.p = pa;
-    sideA.props = &ma;
-    Vec<D> va;
-    for (int a = 0; a < D; ++a) va[a] = v[i * D + a];
-    sideA.v = va;
-    Vec<D> aP = Vec<D>::Zero(), aV = Vec<D>::Zero(), aA = Vec<D>::Zero(), dvX = Vec<D>::Zero(),
-           gradC = Vec<D>::Zero();
-    double divv = 0.0, diff = 0.0;
-    const bool csfHere = gamma_ > 0.0 && itf[i] && !balancedCsf_;
-    Vec<D> nU = Vec<D>::Zero(), nW = Vec<D>::Zero(), tv = Vec<D>::Zero();
-    double kS = 0.0, wS = 0.0;
-    for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
-      const Index j = nl.index[static_cast<size_t>(k)];
-      Vec<D> r;
-      for (int a = 0; a < D; ++a) r[a] = x[i * D + a] - x[j * D + a];
-      const double F = K.F(r.norm());
-      if (F == 0.0) continue;
-      const Vec<D> gradW = F * r;
-      Vec<D> vb;
-      for (int a = 0; a < D; ++a) vb[a] = v[j * D + a];
-      moment -= vol[j] * r.squaredNorm() * F;  // for the next evaluation's factor
-      if (shiftOn) gradC += (m[j] / rho[j]) * gradW;  // grad of sum_b V_b W_ab (all neighbours)
-      if (tvOn) {
-        const double Vb = m[j] / rho[j];
-        tv += (Va * Va + Vb * Vb) * gradW;
-      }
-      if (csfHere && col[j] != col[i] &&
-          (ph[j] == kPhaseFluid || (wallWetting_ && !wettingNormal_))) {
-        // The pairs of Eq. 5.7 again: unweighted and density-weighted normal, and the curvature
-        // where the pair straddles the interface (see below).
-        const double dc = col[j] - col[i], Vb = m[j] / rho[j];
-        nU += (Vb * dc) * gradW;
-        const bool fl = ph[j] == kPhaseFluid;
-        const double w = densityWeightedCsf_ && fl ? 2.0 * rho[i] / (rho[i] + rho[j]) : 1.0;
-        nW += (w * Vb * dc) * gradW;
-        const double kb = fl ? kap[j] : 0.0, ka = kap[i];
-        {
-          // The pair's share of the force sits on its heavy side (w > 1): there the curvature
-          // is moved towards the partner's, kappa_a + (1 - 1/w)(kappa_b - kappa_a), so that the
-          // two sides' forces of the pair add up to (kappa_a + kappa_b)/2, the curvature at the
-          // interface, whatever the density ratio (w_ab kappa_a' + w_ba kappa_b' = kappa_a +
-          // kappa_b with w_ab + w_ba = 2). At equal densities w = 1: each particle keeps its own
-          // kappa (the lattice-aligned wetting depends on that near the contact line); at ratio
-          // 1000 the heavy side takes the mean (the harmonic mean, exact for (D-1)/r, is biased
-          // low by the particle noise of kappa, ~50 % of 1/R per particle at R/dx = 10).
-          const double beta = (kb != 0.0 && w > 1.0) ? 1.0 - 1.0 / w : 0.0;
-          const double km = ka + beta * (kb - ka);
-          const double wt = w * Vb * std::abs(dc * F) * r.norm();
-          kS += km * wt;
-          wS += wt;
+    for (Index i = 0; i < n; ++i) {
+      if (f.nextFactor) f.nextFactor[i] = 1.0;
+      if (f.ph[i] != kPhaseFluid || f.mo[i] == kMotionFixed) continue;
+      const int ida = f.mt[i];
+      if (ida < 0 || ida >= nm || !md[ida].fluid) continue;
+      const MaterialData& ma = md[ida];
+      const double rhoa = f.rho[i], pa = f.p[i], mua = ma.viscosity;
+      const double Va = f.m[i] / rhoa;
+      const double fa = f.visc ? f.visc[i] : 1.0;
+      double moment = 0.0;
+      FluidPairSide<D> sideA;
+      sideA.m = f.m[i];
+      sideA.rho = rhoa;
+      sideA.p = pa;
+      sideA.props = &ma;
+      Vec<D> va;
+      for (int a = 0; a < D; ++a) va[a] = f.v[i * D + a];
+      sideA.v = va;
+      Vec<D> aP = Vec<D>::Zero(), aV = Vec<D>::Zero(), aA = Vec<D>::Zero(), dvX = Vec<D>::Zero(),
+             gradC = Vec<D>::Zero();
+      double divv = 0.0, diff = 0.0;
+      const bool csfHere = gamma_ > 0.0 && itf[i] && !balancedCsf_;
+      Vec<D> nU = Vec<D>::Zero(), nW = Vec<D>::Zero(), tv = Vec<D>::Zero();
+      double kS = 0.0, wS = 0.0;
+      for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
+        const Index j = nl.index[static_cast<size_t>(k)];
+        Vec<D> r;
+        for (int a = 0; a < D; ++a) r[a] = f.x[i * D + a] - f.x[j * D + a];
+        const double F = K.F(r.norm());
+        if (F == 0.0) continue;
+        const Vec<D> gradW = F * r;
+        Vec<D> vb;
+        for (int a = 0; a < D; ++a) vb[a] = f.v[j * D + a];
+        moment -= vol[j] * r.squaredNorm() * F;  // for the next evaluation's factor
+        if (shiftOn) gradC += (f.m[j] / f.rho[j]) * gradW;  // grad of sum_b V_b W_ab (all neighbours)
+        if (tvOn) {
+          const double Vb = f.m[j] / f.rho[j];
+          tv += (Va * Va + Vb * Vb) * gradW;
         }
+        if (csfHere && col[j] != col[i] &&
+            (f.ph[j] == kPhaseFluid || (wallWetting_ && !wettingNormal_))) {
+          // The pairs of Eq. 5.7 again: unweighted and density-weighted normal, and the curvature
+          // where the pair straddles the interface (see below).
+          const double dc = col[j] - col[i], Vb = f.m[j] / f.rho[j];
+          nU += (Vb * dc) * gradW;
+          const bool fl = f.ph[j] == kPhaseFluid;
+          const double w = densityWeightedCsf_ && fl ? 2.0 * f.rho[i] / (f.rho[i] + f.rho[j]) : 1.0;
+          nW += (w * Vb * dc) * gradW;
+          const double kb = fl ? kap[j] : 0.0, ka = kap[i];
+          {
+            // The pair's share of the force sits on its heavy side (w > 1): there the curvature
+            // is moved towards the partner's, kappa_a + (1 - 1/w)(kappa_b - kappa_a), so that the
+            // two sides' forces of the pair add up to (kappa_a + kappa_b)/2, the curvature at the
+            // interface, whatever the density ratio (w_ab kappa_a' + w_ba kappa_b' = kappa_a +
+            // kappa_b with w_ab + w_ba = 2). At equal densities w = 1: each particle keeps its own
+            // kappa (the lattice-aligned wetting depends on that near the contact line); at ratio
+            // 1000 the heavy side takes the mean (the harmonic mean, exact for (D-1)/r, is biased
+            // low by the particle noise of kappa, ~50 % of 1/R per particle at R/dx = 10).
+            const double beta = (kb != 0.0 && w > 1.0) ? 1.0 - 1.0 / w : 0.0;
+            const double km = ka + beta * (kb - ka);
+            const double wt = w * Vb * std::abs(dc * F) * r.norm();
+            kS += km * wt;
+            wS += wt;
+          }
+        }
+        if (f.ph[j] == kPhaseWall) {
+          // Fixed boundary: extrapolated pressure, no-slip velocity (the shared pair terms).
+          BoundaryPairSide<D> sideB;
+          sideB.p = f.p[j];
+          sideB.volume = vol[j];
+          sideB.rho = wallRho ? wallRho[j] : 0.0;
+          sideB.v = vb;
+          for (int a = 0; a < D; ++a) sideB.vNoSlip[a] = f.vw[j * D + a];
+          const FluidPairResult<D> t = fluidBoundaryPair<D>(r, F, sideA, sideB, pairSettings);
+          aP += t.pressure;
+          aV += fa * t.viscous;
+          aA += t.artificial;
+          divv += t.divergence;
+          continue;
+        }
+        if (f.ph[j] != kPhaseFluid) continue;  // fluid-solid / fluid-rigid: the coupling's pairs
+        const int idb = f.mt[j];
+        const double rhob = f.rho[j], pb = f.p[j];
+        const double mub = (idb >= 0 && idb < nm) ? md[idb].viscosity : mua;
+        const double Vb = vol[j];
+        if (densityDiffusion_ > 0.0 && idb == ida)  // Molteni-Colagrossi density diffusion
+          diff += densityDiffusionTerm(Vb, rhoa, rhob, F);
+        // XSPH (2.66) within one material: averaging across a density jump would drag the light
+        // phase with the heavy one.
+        if (xsphOn && idb == ida) dvX += xsphTerm<D>(f.m[j], rhoa, rhob, K.value(r.norm()), vb, va);
+        const double mb = f.m[j];
+        const Vec<D> vab = va - vb;
+        const double fab = 0.5 * (fa + (f.visc ? f.visc[j] : 1.0));
+        const double muBar = mua + mub > 0.0
+                                 ? (harmonicMean_ ? 4.0 * mua * mub / (mua + mub) : mua + mub)
+                                 : 0.0;
+        // Pressure (5.2b or Hu & Adams), viscosity (5.4), artificial viscosity (2.64): the terms
+        // written once for both pair loops (physics/fluid/fluid_pair.hpp).
+        const double cb = (idb >= 0 && idb < nm) ? md[idb].soundSpeed : ma.soundSpeed;
+        const FluidPairParticle pa_{f.m[i], rhoa, Va, pa, pRho2[i], ma.soundSpeed};
+        const FluidPairParticle pb_{mb, rhob, Vb, pb, pRho2[j], cb};
+        FluidFluidAccel<D> ta, unusedB;
+        fluidFluidPair<D, false>(r, gradW, F, vab, pa_, pb_, muBar, fab, ffOptions, ta, unusedB);
+        aP += ta.pressure;
+        aV += ta.viscous;
+        aA += ta.artificial;
+        divv += continuityTerm(continuityForm_, rhoa, mb, Vb, vab.dot(gradW));  // Eq. 5.1a / mass form
       }
-      if (ph[j] == kPhaseWall) {
-        // Fixed boundary: extrapolated pressure, no-slip velocity (the shared pair terms).
-        BoundaryPairSide<D> sideB;
-        sideB.p = p[j];
-        sideB.volume = vol[j];
-        sideB.rho = wallRho ? wallRho[j] : 0.0;
-        sideB.v = vb;
-        for (int a = 0; a < D; ++a) sideB.vNoSlip[a] = vw[j * D + a];
-        const FluidPairResult<D> t = fluidBoundaryPair<D>(r, F, sideA, sideB, pairSettings);
-        aP += t.pressure;
-        aV += fa * t.viscous;
-        aA += t.artificial;
-        divv += t.divergence;
-        continue;
+      if (f.nextFactor) f.nextFactor[i] = moment > 0.5 * D ? D / moment : 1.0;
+      Vec<D> ai = aP + aV + aA + g;
+      for (const BodyForce& b : bodyForces_) {
+        bool inside = true;
+        for (int a = 0; a < D; ++a)
+          inside = inside && f.x[i * D + a] >= b.lo[static_cast<size_t>(a)] &&
+                   f.x[i * D + a] <= b.hi[static_cast<size_t>(a)];
+        if (inside)
+          for (int a = 0; a < D; ++a) ai[a] += b.acceleration[static_cast<size_t>(a)];
       }
-      if (ph[j] != kPhaseFluid) continue;  // fluid-solid / fluid-rigid: the coupling's pairs
-      const int idb = mt[j];
-      const double rhob = rho[j], pb = p[j];
-      const double mub = (idb >= 0 && idb < nm) ? md[idb].viscosity : mua;
-      const double Vb = vol[j];
-      if (densityDiffusion_ > 0.0 && idb == ida)  // Molteni-Colagrossi density diffusion
-        diff += densityDiffusionTerm(Vb, rhoa, rhob, F);
-      // XSPH (2.66) within one material: averaging across a density jump would drag the light
-      // phase with the heavy one.
-      if (xsphOn && idb == ida) dvX += xsphTerm<D>(m[j], rhoa, rhob, K.value(r.norm()), vb, va);
-      const double mb = m[j];
-      const Vec<D> vab = va - vb;
-      const double fab = 0.5 * (fa + (visc ? visc[j] : 1.0));
-      const double muBar = mua + mub > 0.0
-                               ? (harmonicMean_ ? 4.0 * mua * mub / (mua + mub) : mua + mub)
-                               : 0.0;
-      // Pressure (5.2b or Hu & Adams), viscosity (5.4), artificial viscosity (2.64): the terms
-      // written once for both pair loops (physics/fluid/fluid_pair.hpp).
-      const double cb = (idb >= 0 && idb < nm) ? md[idb].soundSpeed : ma.soundSpeed;
-      const FluidPairParticle pa_{m[i], rhoa, Va, pa, pRho2[i], ma.soundSpeed};
-      const FluidPairParticle pb_{mb, rhob, Vb, pb, pRho2[j], cb};
-      FluidFluidAccel<D> ta, unusedB;
-      fluidFluidPair<D, false>(r, gradW, F, vab, pa_, pb_, muBar, fab, ffOptions, ta, unusedB);
-      aP += ta.pressure;
-      aV += ta.viscous;
-      aA += ta.artificial;
-      divv += continuityTerm(continuityForm_, rhoa, mb, Vb, vab.dot(gradW));  // Eq. 5.1a / mass form
-    }
-    if (nextFactor) nextFactor[i] = moment > 0.5 * D ? D / moment : 1.0;
-    Vec<D> ai = aP + aV + aA + g;
-    for (const BodyForce& b : bodyForces_) {
-      bool inside = true;
-      for (int a = 0; a < D; ++a)
-        inside = inside && x[i * D + a] >= b.lo[static_cast<size_t>(a)] &&
-                 x[i * D + a] <= b.hi[static_cast<size_t>(a)];
-      if (inside)
-        for (int a = 0; a < D; ++a) ai[a] += b.acceleration[static_cast<size_t>(a)];
-    }
-    // CSF surface tension, Eq. 1.9 with the colour gradient of Eq. 5.7 (colour jump 2 => 1/2).
-    // The normal n_a (colour_gradient: unweighted 5.7, turned by the wetting model near walls)
-    // is scaled to the density-weighted magnitude |sum w V dc grad W| (w = 2 rho_a/(rho_a+rho_b):
-    // the force acts on the heavy side, whose acceleration it does not overload); the curvature
-    // is the weighted mean over the straddling pairs of their midpoint curvature, i.e. that of
-    // the interface, not of the particle's own level line (the weighted force sits on the heavy
-    // side only, where 1/r is larger than at the interface by ~dx/R).
-    if (csfHere) {
-      const double nu = nU.norm();
-      const double scale = nu > 0.0 ? nW.norm() / nu : 1.0;
-      const double kappa = wS > 0.0 ? kS / wS : kap[i];
-      for (int a = 0; a < D; ++a) ai[a] += 0.5 * gamma_ * kappa * scale * ng[i * D + a] / rhoa;
-    }
-    for (int a = 0; a < D; ++a) acc[i * D + a] += ai[a];
-    if (drho) drho[i] += rhoa * divv + densityDiffusion_ * h * ma.soundSpeed * diff;
-    if (corrRate) {
-      // Particle shifting (Lind et al. 2012; velocity form of Sun et al. 2017's
-      // dr = -CFL Ma (2h)^2 grad C): dv_s = -A h U grad C moves particles from crowded to sparse
-      // regions; |dv_s| is capped at U / 2. Both phases fill the domain, so grad C ~ 0 across a
-      // liquid-gas interface of consistent volumes: no interface treatment is applied (a free
-      // surface would need one).
-      Vec<D> dv = xsph_ * dvX;
-      if (tvOn) dv -= (tvScale / m[i]) * tv;
-      if (shiftOn) {
-        Vec<D> ds = -shifting_ * h * uShift * gradC;
-        const double cap = 0.5 * uShift, len = ds.norm();
-        if (len > cap) ds *= cap / len;
-        dv += ds;
+      // CSF surface tension, Eq. 1.9 with the colour gradient of Eq. 5.7 (colour jump 2 => 1/2).
+      // The normal n_a (colour_gradient: unweighted 5.7, turned by the wetting model near walls)
+      // is scaled to the density-weighted magnitude |sum w V dc grad W| (w = 2 rho_a/(rho_a+rho_b):
+      // the force acts on the heavy side, whose acceleration it does not overload); the curvature
+      // is the weighted mean over the straddling pairs of their midpoint curvature, i.e. that of
+      // the interface, not of the particle's own level line (the weighted force sits on the heavy
+      // side only, where 1/r is larger than at the interface by ~dx/R).
+      if (csfHere) {
+        const double nu = nU.norm();
+        const double scale = nu > 0.0 ? nW.norm() / nu : 1.0;
+        const double kappa = wS > 0.0 ? kS / wS : kap[i];
+        for (int a = 0; a < D; ++a) ai[a] += 0.5 * gamma_ * kappa * scale * ng[i * D + a] / rhoa;
       }
-      for (int a = 0; a < D; ++a) corrRate[i * D + a] += dv[a];
+      for (int a = 0; a < D; ++a) f.acc[i * D + a] += ai[a];
+      if (f.drho) f.drho[i] += rhoa * divv + densityDiffusion_ * h * ma.soundSpeed * diff;
+      if (f.corrRate) {
+        // Particle shifting (Lind et al. 2012; velocity form of Sun et al. 2017's
+        // dr = -CFL Ma (2h)^2 grad C): dv_s = -A h U grad C moves particles from crowded to sparse
+        // regions; |dv_s| is capped at U / 2. Both phases fill the domain, so grad C ~ 0 across a
+        // liquid-gas interface of consistent volumes: no interface treatment is applied (a free
+        // surface would need one).
+        Vec<D> dv = xsph_ * dvX;
+        if (tvOn) dv -= (tvScale / f.m[i]) * tv;
+        if (shiftOn) {
+          Vec<D> ds = -shifting_ * h * uShift * gradC;
+          const double cap = 0.5 * uShift, len = ds.norm();
+          if (len > cap) ds *= cap / len;
+          dv += ds;
+        }
+        for (int a = 0; a < D; ++a) f.corrRate[i * D + a] += dv[a];
+      }
     }
+    });
   }
-  });
   if (balancedCsf_ && gamma_ > 0.0) {  // balanced-force CSF (surface_tension.cpp)
     BalancedCsfArrays arr;
-    arr.x = x;
-    arr.m = m;
-    arr.rho = rho;
-    arr.phase = ph;
-    arr.motion = mo;
+    arr.x = f.x;
+    arr.m = f.m;
+    arr.rho = f.rho;
+    arr.phase = f.ph;
+    arr.motion = f.mo;
     arr.colour = col;
     arr.curvature = kap;
     arr.interface = itf;
-    arr.acceleration = acc;
+    arr.acceleration = f.acc;
     BalancedCsfSettings set;
     set.gamma = gamma_;
     set.huAdams = huAdams;
     set.smoothingRadius = curvatureSmoothing_;
     addBalancedSurfaceForce<D>(nl, W, n, arr, set, kappaWork_);
   }
-  if (nextFactor) {  // this evaluation's factors, for the next one (see above)
-    std::memcpy(st.data(viscousFactor), nextFactor, sizeof(double) * static_cast<size_t>(n));
+  if (f.nextFactor) {  // this evaluation's factors, for the next one (see above)
+    std::memcpy(f.visc, f.nextFactor, sizeof(double) * static_cast<size_t>(n));
     st.refreshGhosts(viscousFactor);
   }
 }

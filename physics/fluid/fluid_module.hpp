@@ -117,17 +117,37 @@ class FluidModule : public Module {
   /// Refuses a sound speed below the flow speed the scene implies (InputError naming the key),
   /// warns below 3 x that.
   void checkSoundSpeeds(const Simulation& sim) const;
+  /// The store fields the fluid loops read and write, looked up once per stage by fields() and
+  /// passed to the gather and the symmetric loops alike (store pointers move when the store
+  /// grows or is reordered, so a set is never kept beyond its stage). Optional fields are null
+  /// when off.
+  struct Fields {
+    Index n = 0, nAll = 0;  ///< real particles; real and ghosts
+    const double *x = nullptr, *v = nullptr, *m = nullptr;
+    double *rho = nullptr, *p = nullptr, *vw = nullptr, *acc = nullptr;
+    const std::int32_t *ph = nullptr, *mt = nullptr, *mo = nullptr;
+    double* drho = nullptr;        ///< continuity rate (null with density summation)
+    double* corrRate = nullptr;    ///< position correction (XSPH / shifting / transport velocity)
+    double* visc = nullptr;        ///< viscous_factor (null without viscosity_normalisation)
+    double* nextFactor = nullptr;  ///< viscous_factor_next (idem)
+    const double* aw = nullptr;    ///< previous boundary acceleration (moving boundaries only)
+  };
+  Fields fields(Simulation& sim) const;
+  /// Widest per-particle sum of the symmetric loops (the scatter is sized for it at each layout).
+  int halfWidth(int d) const;
   template <int D> void kinematicsD(Simulation& sim);
   template <int D> void constitutiveD(Simulation& sim);
   template <int D> void forcesD(Simulation& sim);
   // The same sums on a half neighbour list, each pair evaluated once and added to both
   // particles (fluid_half.cpp, libcore/pair_scatter.hpp).
-  template <int D> void wetFlagsHalf(Simulation& sim);
-  template <int D> void wallExtrapolationHalf(Simulation& sim);
-  template <int D> void densitySummationHalf(Simulation& sim);
-  template <int D> void viscousFactorsHalf(Simulation& sim);
-  template <int D> void forceLoopHalf(Simulation& sim, double uShift, const double* wallRho);
-  /// The scatter's layout, on the candidates, once per neighbour search; buffers for `width`.
+  template <int D> void wetFlagsHalf(Simulation& sim, const Fields& f);
+  template <int D> void wallExtrapolationHalf(Simulation& sim, const Fields& f);
+  template <int D> void densitySummationHalf(Simulation& sim, const Fields& f);
+  template <int D> void viscousFactorsHalf(Simulation& sim, const Fields& f);
+  template <int D>
+  void forceLoopHalf(Simulation& sim, const Fields& f, double uShift, const double* wallRho);
+  /// The scatter's layout, on the candidates, once per neighbour search, with its buffers and
+  /// the per-particle sums sized there for halfWidth(); then set to `width` (no allocation).
   void layoutHalf(Simulation& sim, int width);
   PairScatter scatter_;            // blocks and spill buffers of the symmetric loops
   Index layoutBuild_ = -1, layoutCount_ = -1;  // neighbour search and store size of the layout
