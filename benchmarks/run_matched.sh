@@ -16,6 +16,7 @@
 #   DSPH_A=path/out_dp0.01/Dam  DSPH_B=path/out_B/Dam   its GenCase outputs of case A and B
 #   DSPH_TMAX=0.004  physical time of a DSPH run (~1e-4 s per step: 0.004 s ~ 40 steps)
 #   SKIN=0.3        neighbour_skin (units of dx) written into the PoreSPH scenes (default: the scene's)
+#   NLIST="full half"  neighbour_list values run one after the other (default: the scene's, auto)
 #   SHORT=1          also run each program for ~5 steps (PoreSPH max_steps 5, DSPH tmax 0.0005)
 #                    and print the CPU time per step of the difference (set-up and output cancel:
 #                    the figure to compare on a loaded machine, with THREADS=1)
@@ -40,13 +41,17 @@ cpu_of() {  # command...: prints user + sys seconds
   rm -f "$f"
 }
 
-run_poresph() {  # case threads rep
-  local scene tmp out log np nf load0 load1 cpu
+run_poresph() {  # case threads rep [neighbour_list]
+  local scene tmp out log np nf load0 load1 cpu label=poresph
   scene=$(scene_of "$1")
   tmp=$(mktemp -d)
   sed -e "s/^max_steps:.*/max_steps: $STEPS/" -e "s/^end_time:.*/end_time: 10.0/" "$scene" > "$tmp/scene.yaml"
   if [ -n "${SKIN:-}" ]; then
     sed -i -e '/^neighbour_skin:/d' -e "s/^kernel:.*/&\nneighbour_skin: $SKIN/" "$tmp/scene.yaml"
+  fi
+  if [ -n "${4:-}" ]; then
+    sed -i -e '/^neighbour_list:/d' -e "s/^kernel:.*/&\nneighbour_list: $4/" "$tmp/scene.yaml"
+    label="poresph-$4"
   fi
   local c5 cN
   if [ -n "${SHORT:-}" ]; then
@@ -60,7 +65,7 @@ run_poresph() {  # case threads rep
   log=$( { /usr/bin/time -f "CPUTIME %U %S" "$PORESPH" run "$tmp/scene.yaml" --out "$tmp/out" --force \
            --threads "$2" ; } 2>&1)
   load1=$(cut -d' ' -f1 /proc/loadavg)
-  echo "$log" | awk -v c="$1" -v t="$2" -v np="$np" -v nf="$nf" -v rep="$3" -v l0="$load0" -v l1="$load1" '
+  echo "$log" | awk -v lb="$label" -v c="$1" -v t="$2" -v np="$np" -v nf="$nf" -v rep="$3" -v l0="$load0" -v l1="$load1" '
     # wall is printed as "12.3 s", "2 min 5 s" or "1 h 3 min"
     function secs(i,   s) { s = 0
       for (; i <= NF; i += 2) { if ($(i+1) == "s") return s + $i; if ($(i+1) == "min") s += 60 * $i
@@ -70,12 +75,12 @@ run_poresph() {  # case threads rep
     /^CPUTIME/ { cpu = $2 + $3 }
     END { if (n < 2 || w <= w0) { print "case " c " poresph threads " t ": too few progress lines"; exit 0 }
           r = (s - s0) / (w - w0)
-          printf "rep %d case %s poresph threads %d: %.4f s/step, %.3g particle-steps/s (%d particles), %.3g fluid particle-steps/s (%d), %.3g s simulated per wall s, CPU %.4f s/step (whole run / %d steps), load %s -> %s\n",
-                 rep, c, t, 1 / r, r * np, np, r * nf, nf, (tt - t0) / (w - w0), cpu / s, s, l0, l1 }'
+          printf "rep %d case %s %s threads %d: %.4f s/step, %.3g particle-steps/s (%d particles), %.3g fluid particle-steps/s (%d), %.3g s simulated per wall s, CPU %.4f s/step (whole run / %d steps), load %s -> %s\n",
+                 rep, c, lb, t, 1 / r, r * np, np, r * nf, nf, (tt - t0) / (w - w0), cpu / s, s, l0, l1 }'
   if [ -n "${SHORT:-}" ]; then
     cN=$(echo "$log" | awk '/^CPUTIME/ { print $2 + $3 }')
-    awk -v a="$c5" -v b="$cN" -v n="$STEPS" -v c="$1" -v t="$2" -v rep="$3" 'BEGIN {
-      printf "rep %d case %s poresph threads %d: CPU %.4f s/step (difference of %d- and 5-step runs)\n", rep, c, t, (b - a) / (n - 5), n }'
+    awk -v lb="$label" -v a="$c5" -v b="$cN" -v n="$STEPS" -v c="$1" -v t="$2" -v rep="$3" -v l="$(cut -d' ' -f1 /proc/loadavg)" 'BEGIN {
+      printf "rep %d case %s %s threads %d: CPU %.4f s/step (difference of %d- and 5-step runs), load %s\n", rep, c, lb, t, (b - a) / (n - 5), n, l }'
   fi
   rm -rf "$tmp"
 }
@@ -109,14 +114,18 @@ run_dsph() {  # case threads rep
           r = steps / rt
           printf "rep %d case %s dsph    threads %d: %.4f s/step, %.3g particle-steps/s (%d particles), %.3g fluid particle-steps/s (%d), %.3g s simulated per wall s, CPU %.4f s/step (whole run / %d steps), load %s -> %s\n",
                  rep, c, t, 1 / r, r * np, np, r * nf, nf, tm / rt, cpu / steps, steps, l0, l1
-          if (c5 != "") printf "rep %d case %s dsph    threads %d: CPU %.4f s/step (difference of %d- and %d-step runs)\n", rep, c, t, (cpu - c5) / (steps - s5), steps, s5 }' c5="${c5:-}" s5="${s5:-0}"
+          if (c5 != "") printf "rep %d case %s dsph    threads %d: CPU %.4f s/step (difference of %d- and %d-step runs), load %s\n", rep, c, t, (cpu - c5) / (steps - s5), steps, s5, l1 }' c5="${c5:-}" s5="${s5:-0}"
   rm -rf "$out"
 }
 
 for rep in $(seq 1 "$REPS"); do
   for t in $THREADS; do
     for c in $CASES; do
-      run_poresph "$c" "$t" "$rep"
+      if [ -n "${NLIST:-}" ]; then
+        for nl in $NLIST; do run_poresph "$c" "$t" "$rep" "$nl"; done
+      else
+        run_poresph "$c" "$t" "$rep"
+      fi
       run_dsph "$c" "$t" "$rep"
     done
   done
