@@ -7,6 +7,10 @@
 // rho = 1000 mg/mm3 (1e6 kg/m3), Yc0 = 2.5e-3 N/mm2, s_l = 0.99. Total-Lagrangian SVK with
 // hourglass control; quasi-static by a slow displacement ramp and viscous damping (instead of
 // the thesis' artificial viscosity alpha = 41, which cuts the step ~50x).
+// Variants of the inclusion (PlateSetup::inclusion, issue 15 validation 5): the clamped
+// undamageable material above, or a rigid body of the rigid module (physics/rigid) bonded to the
+// clay (`bonded: true`: the clay's first layer held to anchor points fixed in the body frame,
+// A.6), either held (`fixed: true`) or free (translates and rotates with the clay it is bonded to).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -14,9 +18,18 @@
 #include <string>
 #include <vector>
 
+#include "libcore/phases.hpp"
+#include "physics/rigid/rigid_module.hpp"
 #include "physics/solid/solid_scenes.hpp"
 
 namespace poresph::solid::plate {
+
+/// How the inclusion is held.
+enum class Inclusion {
+  Clamped,     ///< an undamageable elastic material clamped at u = 0 (the thesis' Gamma_1)
+  RigidFixed,  ///< a rigid body (rigid module), bonded to the clay, `fixed: true`
+  RigidFree,   ///< the same body free: Newton-Euler under the bond forces of the clay
+};
 
 struct PlateSetup {
   double dx = 3e-3;           ///< particle spacing [m]
@@ -27,14 +40,19 @@ struct PlateSetup {
   double damping = 600.0;     ///< 1/s (~ the lowest mode, pi c_p / (2 L))
   double hourglass = 1.0;
   double threshold = 0.5;     ///< a particle is "damaged" at D >= threshold
+  double lowThreshold = 0.1;  ///< a second onset: the first particle at D >= lowThreshold
   std::string dump;           ///< CSV of X, Y, D at the end (and at onset/crossing: suffixed)
   bool clampBottom = false;   ///< also hold the bottom layer (one support deep) at u = 0
   long maxSteps = -1;         ///< stop after so many steps (cost measurements), -1: the whole ramp
+  Inclusion inclusion = Inclusion::Clamped;
+  double bodyDamping = 600.0; ///< 1/s, the free body's `damping` (as the clay's: quasi-static)
 };
 
 struct PlateResult {
   double uOnset = 0.0;      ///< imposed displacement when the first particle reached the threshold (0: never)
   double xOnset = 0.0, yOnset = 0.0;
+  double uOnsetLow = 0.0;   ///< ... when the first particle reached lowThreshold (0: never)
+  double xOnsetLow = 0.0, yOnsetLow = 0.0;
   double uCross = 0.0;      ///< ... when damaged particles touch both lateral sides (0: never)
   double asymmetry = 0.0;   ///< sum |D(x, y) - D(-x, y)| / sum D at the end
   double width = 0.0;       ///< damaged width across the crack at x = +-(a + L/6) [m], at the end
@@ -44,6 +62,17 @@ struct PlateResult {
   double dmax = 0.0;
   long particles = 0, steps = 0, clipped = 0;
   double wall = 0.0;
+  double dt = 0.0;
+  // rigid inclusion: the body's displacement [m] and rotation [rad] at onset and at the end,
+  // and the force of the clay on it along y at the end [N per m of thickness]
+  double bodyUxOnset = 0.0, bodyUyOnset = 0.0, bodyRotOnset = 0.0;
+  double bodyUyOnsetLow = 0.0, bodyUyCross = 0.0;  ///< at the D >= lowThreshold onset, at crossing
+  double bodyUyMax = 0.0;  ///< largest displacement along y during the run
+  /// D on the reference lattice (row iy = floor((Y + L/2) / dx) times gridN plus column) when the
+  /// crack first reached both sides (crack pattern comparisons)
+  std::vector<double> gridCross;
+  int gridN = 0;
+  double bodyUx = 0.0, bodyUy = 0.0, bodyRot = 0.0, bodyFy = 0.0;
 };
 
 inline void dumpCsv(const std::string& path, const Simulation& sim) {
@@ -73,7 +102,14 @@ inline PlateResult runPlate(const PlateSetup& s) {
                 "{density: %g, young_modulus: %g, poisson_ratio: %g, formulation: total_lagrangian, "
                 "hourglass: %g, damping: %g}",
                 rho, E, nu, s.hourglass, s.damping);
-  addMaterial(sim, "inclusion", "elastic", buf);
+  const bool rigidInclusion = s.inclusion != Inclusion::Clamped;
+  if (rigidInclusion) {
+    std::snprintf(buf, sizeof buf, "{density: %g, bonded: true, damping: %g%s}", rho, s.bodyDamping,
+                  s.inclusion == Inclusion::RigidFixed ? ", fixed: true" : "");
+    addMaterial(sim, "inclusion", "rigid", buf);
+  } else {
+    addMaterial(sim, "inclusion", "elastic", buf);
+  }
   const int n = static_cast<int>(std::lround(L / s.dx));
   const double dx = L / n;
   sim.spacing = dx;
@@ -96,14 +132,48 @@ inline PlateResult runPlate(const PlateSetup& s) {
                 -0.5 * L + s.support);
   const std::string bottom = bottomBuf;
   std::snprintf(buf, sizeof buf,
-                "{boundaries: [%s{name: inclusion, type: clamped, material: inclusion}, "
+                "{boundaries: [%s%s"
                 "{name: top, type: displacement, displacement: [0, %.9g], components: [y], "
                 "ramp_time: %.9g, box: {min: [-1, %.9g], max: [1, 1]}}]}",
-                s.clampBottom ? bottom.c_str() : "", s.uMax, ramp, yTop);
+                s.clampBottom ? bottom.c_str() : "",
+                rigidInclusion ? "" : "{name: inclusion, type: clamped, material: inclusion}, ", s.uMax,
+                ramp, yTop);
   ElasticSolidModule& solid = addSolidModule(sim, buf);
+  RigidModule* rigid = nullptr;
+  if (rigidInclusion) {
+    std::unique_ptr<Module> mod = ModuleRegistry::create("rigid");
+    mod->configure(sim, {&sim.materials[1]}, nullptr);
+    rigid = dynamic_cast<RigidModule*>(mod.get());
+    sim.addModule(std::move(mod));
+    // the body's particles: rigid phase, mass rho dx^2 (the scene loader's job in a scene file)
+    std::int32_t* ph = sim.store.data(sim.store.phase());
+    double* m = sim.store.data(sim.store.mass());
+    double* den = sim.store.data(sim.store.density());
+    const std::int32_t* mt = sim.store.data(sim.store.material());
+    for (Index i = first; i < sim.store.realCount(); ++i)
+      if (mt[i] == 1) {
+        ph[i] = kPhaseRigid;
+        m[i] = rho * dx * dx;
+        den[i] = rho;
+      }
+  }
   solid.initialise(sim);
+  if (rigid) {
+    sim.checkPairOwners();  // solid-rigid: the rigid module's (the solid set its phase above)
+    rigid->initialise(sim);
+  }
   r.particles = sim.store.realCount();
-  const double dt = 0.5 * solid.elasticTimeStepLimit(sim);
+  // the bonds' own limit (RigidModule::timeStepLimit; no motion yet) where they are present
+  const double dt = std::min(0.5 * solid.elasticTimeStepLimit(sim),
+                             rigid ? rigid->timeStepLimit(sim) : 1e300);
+  r.dt = dt;
+  auto bodyMotion = [&](double& ux, double& uy, double& rot) {
+    if (!rigid) return;
+    const RigidBody& B = rigid->bodies()[0];
+    ux = B.state.X[0] - B.X0[0];
+    uy = B.state.X[1] - B.X0[1];
+    rot = 2.0 * std::atan2(B.state.q.z(), B.state.q.w());  // about z (2D)
+  };
   auto integrator = makeIntegrator("leapfrog");
   const double* X = sim.store.data(sim.store.real("reference_position"));
   const std::int32_t* mat = sim.store.data(sim.store.material());
@@ -123,9 +193,10 @@ inline PlateResult runPlate(const PlateSetup& s) {
     return r;
   }
   // left-right asymmetry and damaged width of the current damage field
+  std::vector<double> grid;
   auto measure = [&](double& asym, double& width) {
     const double* Dm = sim.store.data(sim.store.real("damage"));
-    std::vector<double> grid(static_cast<size_t>(n) * n, 0.0);
+    grid.assign(static_cast<size_t>(n) * n, 0.0);
     for (Index i = first; i < sim.store.realCount(); ++i) {
       const int ix = static_cast<int>(std::floor((X[2 * i] + 0.5 * L) / dx));
       const int iy = static_cast<int>(std::floor((X[2 * i + 1] + 0.5 * L) / dx));
@@ -154,17 +225,31 @@ inline PlateResult runPlate(const PlateSetup& s) {
   while (sim.time < ramp * (1 - 1e-9)) {
     integrator->step(sim, std::min(dt, ramp - sim.time));
     ++r.steps;
+    if (rigid) {
+      double ux = 0.0, uy = 0.0, rot = 0.0;
+      bodyMotion(ux, uy, rot);
+      r.bodyUyMax = std::max(r.bodyUyMax, uy);
+    }
     if (s.law.empty()) continue;  // elastic reference run (no damage field)
     const double u = s.uMax * sim.time / ramp;
     const double* D = sim.store.data(sim.store.real("damage"));
     bool left = false, right = false;
     for (Index i = 0; i < sim.store.realCount(); ++i) {
-      if (mat[i] != 0 || mo[i] == kMotionPrescribed || D[i] < s.threshold) continue;
+      if (mat[i] != 0 || mo[i] == kMotionPrescribed) continue;
+      if (r.uOnsetLow == 0.0 && D[i] >= s.lowThreshold) {
+        r.uOnsetLow = u;
+        r.xOnsetLow = X[2 * i];
+        r.yOnsetLow = X[2 * i + 1];
+        double ux = 0.0, rot = 0.0;
+        bodyMotion(ux, r.bodyUyOnsetLow, rot);
+      }
+      if (D[i] < s.threshold) continue;
       if (!onset) {
         onset = true;
         r.uOnset = u;
         r.xOnset = X[2 * i];
         r.yOnset = X[2 * i + 1];
+        bodyMotion(r.bodyUxOnset, r.bodyUyOnset, r.bodyRotOnset);
         if (!s.dump.empty()) dumpCsv(s.dump + "_onset.csv", sim);
       }
       if (X[2 * i] < -0.5 * L + 1.5 * dx) left = true;
@@ -175,6 +260,10 @@ inline PlateResult runPlate(const PlateSetup& s) {
       r.uCross = u;
       double asym = 0.0;
       measure(asym, r.widthCross);
+      r.gridCross = grid;
+      r.gridN = n;
+      double ux = 0.0, rot = 0.0;
+      bodyMotion(ux, r.bodyUyCross, rot);
       if (!s.dump.empty()) dumpCsv(s.dump + "_cross.csv", sim);
     }
   }
@@ -187,6 +276,8 @@ inline PlateResult runPlate(const PlateSetup& s) {
   r.balance = std::abs(balance()) / std::max(std::abs(w[0]), 1e-300);
   r.dissipated = solid.damageDissipation(sim);
   r.clipped = solid.clippedDamageUpdates();
+  bodyMotion(r.bodyUx, r.bodyUy, r.bodyRot);
+  if (rigid) r.bodyFy = rigid->bodies()[0].force[1];
   if (!s.dump.empty() && !s.law.empty()) dumpCsv(s.dump + "_end.csv", sim);
   r.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
