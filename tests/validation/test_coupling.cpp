@@ -14,10 +14,12 @@
 #include <sstream>
 #include <vector>
 
+#include "libcore/fluid_pair_terms.hpp"
 #include "libcore/integrator.hpp"
 #include "libcore/phases.hpp"
 #include "libcore/scene.hpp"
 #include "physics/solid/solid_scenes.hpp"
+#include "physics/solid/wall_stress.hpp"
 #include "tests/support/validation_record.hpp"
 
 using namespace poresph;
@@ -251,6 +253,9 @@ namespace {
 struct PoreResult {
   double displacementError = 0.0, hoopError = 0.0, pressure = 0.0, uMeasured = 0.0, uExact = 0.0;
   double hoopMeasured = 0.0, hoopExact = 0.0, maxFluidSpeed = 0.0, wall = 0.0;
+  // the wall value of solid::estimateWallStress (extrapolated from behind the staircase to the
+  // smooth wall) against Lame at the mean radius of its wall points
+  double wallHoop = 0.0, wallHoopExact = 0.0, wallHoopError = 0.0, wallRadius = 0.0;
   Index particles = 0, crossings = 0;
 };
 
@@ -297,11 +302,70 @@ PoreResult runPressurisedPore(bool rings, int perThickness, double duration) {
   const RealField X = st.real("reference_position"), sigma = st.real("stress");
   const RealField pressure = st.real("pressure");
   // Time averages over the last third of the run (the water's slosh is damped only slowly).
-  double pSum = 0.0, uSum = 0.0, tSum = 0.0, rSum = 0.0;
-  Index nf = 0, ns = 0;
+  double pSum = 0.0, uSum = 0.0, tSum = 0.0, rSum = 0.0, wSum = 0.0, wrSum = 0.0;
+  Index nf = 0, ns = 0, nw = 0;
+  // Study output (PORE_PROFILE): hoop / radial stress per radial layer of width dx, the first
+  // layer's hoop stress per angular bin (folded onto 0-45 deg), and the fluid's radial force
+  // per unit angle against p a (the load the pairs put on the wall).
+  const bool profile = std::getenv("PORE_PROFILE") != nullptr;
+  const int nLayers = perThickness, nAng = 6;
+  std::vector<double> lt(nLayers, 0.0), lr(nLayers, 0.0), lrad(nLayers, 0.0), lc(nLayers, 0.0);
+  std::vector<double> at(nAng, 0.0), ac(nAng, 0.0), af(nAng, 0.0);
+  double fRadial = 0.0, fSamples = 0.0;
+  const FluidBoundaryForce<2> pairForce{
+      st.data(st.position()), st.data(st.velocity()), st.data(st.mass()), st.data(st.density()),
+      st.data(pressure), st.data(st.real("wall_velocity")),
+      st.has("viscous_factor") ? st.data(st.real("viscous_factor")) : nullptr,
+      st.data(st.material()), sim.materials.data(), &sim.kernel, sim.fluidPairSettings,
+      BoundaryModel::Mirror};
   for (long k = 0; k < steps; ++k) {
     integrator->step(sim, dt);
     if (k < 2 * steps / 3 || k % 10 != 0) continue;
+    // study hooks: PORE_WALL_REACH / PORE_WALL_DEPTH (units of dx), PORE_WALL_QUAD (quadratic)
+    for (const auto& e : solid::estimateWallStress<2>(
+             sim, dx, std::getenv("PORE_WALL_REACH") ? std::atof(std::getenv("PORE_WALL_REACH")) : 5.0,
+             std::getenv("PORE_WALL_DEPTH") ? std::atof(std::getenv("PORE_WALL_DEPTH")) : 1.5,
+             std::getenv("PORE_WALL_QUAD") != nullptr)) {
+      const Vec<2> er = e.wallPoint.normalized(), et(-er[1], er[0]);
+      wSum += et.dot(e.stress * et);
+      wrSum += e.wallPoint.norm();
+      ++nw;
+    }
+    if (profile) {
+      for (Index i = 0; i < st.realCount(); ++i) {
+        if (st.data(st.phase())[i] == kPhaseFluid) continue;
+        const Vec<2> Xi = st.vec<2>(X, i);
+        const double r0 = Xi.norm();
+        const Vec<2> er = Xi / r0, et(-er[1], er[0]);
+        const int l = std::min(nLayers - 1, static_cast<int>((r0 - a) / dx));
+        const Mat<2> S = st.mat<2>(sigma, i);
+        lt[l] += et.dot(S * et);
+        lr[l] += er.dot(S * er);
+        lrad[l] += r0;
+        lc[l] += 1.0;
+        if (l == 0) {
+          double th = std::atan2(std::abs(Xi[1]), std::abs(Xi[0]));
+          if (th > M_PI / 4) th = M_PI / 2 - th;
+          const int ab = std::min(nAng - 1, static_cast<int>(th / (M_PI / 4) * nAng));
+          at[ab] += et.dot(S * et);
+          ac[ab] += 1.0;
+        }
+        const auto& nl = sim.neighbours;
+        Vec<2> f = Vec<2>::Zero();
+        for (auto q = nl.offset[i]; q < nl.offset[i + 1]; ++q) {
+          const Index j = nl.index[static_cast<size_t>(q)];
+          if (st.data(st.phase())[j] != kPhaseFluid) continue;
+          double div = 0.0;
+          f -= pairForce(j, i, div);
+        }
+        fRadial += f.dot(st.vec<2>(st.position(), i).normalized());
+        double th = std::atan2(std::abs(Xi[1]), std::abs(Xi[0]));
+        if (th > M_PI / 4) th = M_PI / 2 - th;
+        af[std::min(nAng - 1, static_cast<int>(th / (M_PI / 4) * nAng))] +=
+            f.dot(st.vec<2>(st.position(), i).normalized());
+      }
+      fSamples += 1.0;
+    }
     for (Index i = 0; i < st.realCount(); ++i) {
       const Vec<2> xi = st.vec<2>(st.position(), i);
       if (st.data(st.phase())[i] == kPhaseFluid) {
@@ -335,8 +399,33 @@ PoreResult runPressurisedPore(bool rings, int perThickness, double duration) {
   res.hoopError = std::abs(tSum / ns - hoopExact) / hoopExact;
   res.hoopMeasured = tSum / ns;
   res.hoopExact = hoopExact;
+  res.wallRadius = wrSum / nw;
+  res.wallHoop = wSum / nw;
+  res.wallHoopExact = A * (1.0 + b * b / (res.wallRadius * res.wallRadius));
+  res.wallHoopError = std::abs(res.wallHoop - res.wallHoopExact) / res.wallHoopExact;
   res.wall = clock.seconds();
   res.particles = n;
+  std::printf("  wall estimate: hoop %.1f Pa at r = %.5f (Lame %.1f, %.2f %%)\n", res.wallHoop,
+              res.wallRadius, res.wallHoopExact, 100.0 * res.wallHoopError);
+  if (profile) {
+    const double P = res.pressure;
+    std::printf("  [profile] fluid radial force / (2 pi a p) = %.4f\n",
+                fRadial / fSamples / (2.0 * M_PI * a * P));
+    for (int l = 0; l < std::min(nLayers, 8); ++l) {
+      const double rl = lrad[l] / lc[l];
+      const double Al = P * a * a / (b * b - a * a);
+      std::printf("  [profile] layer %d r/a %.4f n %.0f: hoop %.1f (Lame %.1f, %+.2f %%), radial "
+                  "%.1f (Lame %.1f, %+.2f %% of p)\n",
+                  l, rl / a, lc[l] / fSamples, lt[l] / lc[l], Al * (1 + b * b / (rl * rl)),
+                  100 * (lt[l] / lc[l] / (Al * (1 + b * b / (rl * rl))) - 1), lr[l] / lc[l],
+                  Al * (1 - b * b / (rl * rl)),
+                  100 * (lr[l] / lc[l] - Al * (1 - b * b / (rl * rl))) / P);
+    }
+    for (int q = 0; q < nAng; ++q)
+      std::printf("  [profile] first layer, %.1f-%.1f deg: hoop %.1f (n %.0f); radial force per "
+                  "unit angle / (p a) %.4f\n", 45.0 * q / nAng, 45.0 * (q + 1) / nAng,
+                  at[q] / ac[q], ac[q] / fSamples, af[q] / fSamples / (8 * M_PI / 4 / nAng) / (P * a));
+  }
   std::printf("  %s, %d across: water p = %.1f Pa (loaded with %.0f), u(%.5f) = %.4e m (Lame "
               "%.4e, %.2f %%), hoop %.1f Pa (Lame %.1f, %.2f %%), max water speed %.2e m/s, "
               "%lld crossings, %lld particles, %.1f s\n",
@@ -348,6 +437,15 @@ PoreResult runPressurisedPore(bool rings, int perThickness, double duration) {
 }
 
 }  // namespace
+
+TEST(CouplingPore, ExploreLatticeResolution) {
+  if (!std::getenv("PORE_LATTICE_STUDY")) GTEST_SKIP() << "set PORE_LATTICE_STUDY=1";
+  // PORE_N: one resolution (particles across the wall), lattice only.
+  std::vector<int> ns = {16, 24, 32};
+  if (std::getenv("PORE_N")) ns = {std::atoi(std::getenv("PORE_N"))};
+  for (int n : ns) runPressurisedPore(false, n, 0.01);
+  if (!std::getenv("PORE_N")) runPressurisedPore(true, 16, 0.01);
+}
 
 TEST(CouplingPore, PressurisedRingAgainstLame) {
   if (std::getenv("PORE_STUDY")) {
@@ -372,21 +470,37 @@ TEST(CouplingPore, PressurisedRingAgainstLame) {
 }
 
 TEST(CouplingPore, PressurisedVoxelPoreAgainstLame) {
-  // The bore is a voxel staircase (what an image gives): displacement 2.6 %, hoop stress 17 %
-  // (the same 17 % as the solid alone under a nodal pressure load, docs/solid.md: the staircase,
-  // not the coupling). Bounds guard against regression; improving the staircase is open.
-  const PoreResult r = runPressurisedPore(false, 16, 0.01);
-  EXPECT_EQ(r.crossings, 0);
-  EXPECT_LT(r.displacementError, 0.05);
-  EXPECT_LT(r.hoopError, 0.20);
-  const std::string res = "2D plane strain, lattice, 16 dx across the wall, " +
-                          std::to_string(r.particles) + " particles";
-  test::recordValidation({"coupling_pressurised_pore_lattice", "radial displacement at the bore",
-                          r.uMeasured, r.uExact, r.displacementError, res, r.wall, "< 5 %",
-                          "Lame, thick cylinder at the water's pressure"});
-  test::recordValidation({"coupling_pressurised_pore_lattice", "hoop stress at the bore",
-                          r.hoopMeasured, r.hoopExact, r.hoopError, res, r.wall, "< 20 % (staircase)",
-                          "Lame, thick cylinder at the water's pressure"});
+  // The bore is a voxel staircase (what an image gives). Measured (docs/coupling.md "Staircase
+  // bore"): the load is right (the fluid's total radial force 1.002 / 0.992 / 0.992 of 2 pi a p at
+  // 16 / 24 / 32 across) and from the second layer on the hoop stress follows Lame (within 3-6 %
+  // at 16, 0-2 % at 24-32), but the first layer's mean is 17 / 20 / 25 % low and does not
+  // converge: it mixes teeth (two wet faces, stress towards -p 1) and omits the notches. The
+  // wall value of solid::estimateWallStress (linear MLS from 1.5-5 dx behind each wet particle,
+  // extrapolated to the colour-gradient wall point) is asserted at two resolutions: measured
+  // 6.2 % (16 across) and 5.5 % (24 across), against the first layer's 17 / 20 %.
+  for (int across : {16, 24}) {
+    const PoreResult r = runPressurisedPore(false, across, 0.01);
+    EXPECT_EQ(r.crossings, 0);
+    EXPECT_LT(r.displacementError, 0.05);
+    EXPECT_LT(r.hoopError, 0.22);  // first-layer mean: the staircase (regression guard)
+    EXPECT_LT(r.wallHoopError, 0.08) << across << " across";
+    EXPECT_LT(r.wallHoopError, 0.5 * r.hoopError) << across << " across";
+    EXPECT_NEAR(r.wallRadius, 0.01, 0.05 * 0.01);  // the wall points lie on r = a
+    const std::string res = "2D plane strain, lattice, " + std::to_string(across) +
+                            " dx across the wall, " + std::to_string(r.particles) + " particles";
+    const std::string id = across == 16 ? "coupling_pressurised_pore_lattice"
+                                        : "coupling_pressurised_pore_lattice_24";
+    test::recordValidation({id, "radial displacement at the bore", r.uMeasured, r.uExact,
+                            r.displacementError, res, r.wall, "< 5 %",
+                            "Lame, thick cylinder at the water's pressure"});
+    test::recordValidation({id, "hoop stress at the bore (first-layer mean)", r.hoopMeasured,
+                            r.hoopExact, r.hoopError, res, r.wall, "< 22 % (staircase)",
+                            "Lame, thick cylinder at the water's pressure"});
+    test::recordValidation({id, "hoop stress at the wall r = a (solid::estimateWallStress)",
+                            r.wallHoop, r.wallHoopExact, r.wallHoopError, res, r.wall,
+                            "< 8 % and < half the first layer's",
+                            "Lame, thick cylinder at the water's pressure"});
+  }
 }
 
 // The spherical pore (3D) on the voxel lattice, from a scene file (the shipped sample's 3D
