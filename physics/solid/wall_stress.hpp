@@ -9,8 +9,8 @@
 // staircase:
 //   1. colour c_i = sum_j V_j W_ij s_j / sum_j V_j W_ij (s = 1 solid, 0 fluid) and its gradient
 //      grad c_i = sum_j V_j (s_j - c_i) grad W_ij / sum_j V_j W_ij over solid and fluid
-//      neighbours; n = grad c / |grad c| points into the solid (the colour-gradient normal, as
-//      for the interface normal of Eq. 2.43's continuum surface force);
+//      neighbours; n = grad c / |grad c| points into the solid (the colour and its normal
+//      in the form of Eqs. 5.6-5.7, with a Shepard denominator);
 //   2. the wall point x_w = x_i - (dx / 2 + (c_i - c_flat) / |grad c_i|) n, where c_flat is the
 //      colour of the first layer of a flat lattice wall with the same kernel (a flat lattice wall
 //      lies dx / 2 in front of its first layer);
@@ -23,8 +23,9 @@
 // steep profile (Lame's 1/r^2: on body-fitted rings at 16 across it reads 11 % low where the
 // rings' own first layer is 2 % off); at 16 across on the lattice this bias partly cancels the
 // interior's +3 %. Shorter reach or points closer to the wall (3 dx, 0.5 / 1.0 dx) were measured
-// worse (8-13 % or an ill-conditioned fit), and so was the quadratic basis (`quadratic`: 13-19 %
-// at 16 across, unstable at reach 4); a basis with only the depth squared gave 11-26 %.
+// worse at 16 across (8-13 % or an ill-conditioned fit), and so was the quadratic basis
+// (`quadratic`: 8.6-19 % at 16 across, ill-conditioned at reach 4); a basis with only the depth
+// squared (tried, not kept) gave 11-26 %.
 // Only wet solid particles (a fluid particle closer than 1.5 dx) get an estimate. Current
 // positions; the Cauchy stress field `stress`. An estimator (a reading of the field), not a change
 // of the particles' own stress: a damage law driven by the particle stress still sees the
