@@ -531,12 +531,20 @@ geometry:
   ParticleStore& st = sim.store;
   auto integrator = makeIntegrator("leapfrog");
   const RealField X = st.real("reference_position"), pressure = st.real("pressure");
-  double pSum = 0.0, uSum = 0.0, rSum = 0.0;
-  Index nf = 0, ns = 0, crossings = 0;
+  double pSum = 0.0, uSum = 0.0, rSum = 0.0, wHoop = 0.0, pHoop = 0.0, wR = 0.0;
+  Index nf = 0, ns = 0, crossings = 0, nw = 0;
   long k = 0;
   while (!s.finished()) {
     integrator->step(sim, s.nextTimeStep());
     if (sim.time < 2.0 / 3.0 * s.endTime || ++k % 10 != 0) continue;
+    if (std::getenv("PORE_WALL_3D"))  // study: the wall hoop stress read by the estimator
+      for (const auto& e : solid::estimateWallStress<3>(sim, dx)) {
+        const Vec<3> er = e.wallPoint.normalized();
+        wHoop += 0.5 * (e.stress.trace() - er.dot(e.stress * er));
+        pHoop += 0.5 * (e.particleStress.trace() - er.dot(e.particleStress * er));
+        wR += e.wallPoint.norm();
+        ++nw;
+      }
     for (Index i = 0; i < st.realCount(); ++i) {
       if (st.data(st.phase())[i] == kPhaseFluid) {
         pSum += st.data(pressure)[i];
@@ -558,6 +566,13 @@ geometry:
   const double exact = p * a * a * a / (E * (b * b * b - a * a * a)) *
                        ((1.0 - 2.0 * nu) * r + (1.0 + nu) * b * b * b / (2.0 * r * r));
   const double err = std::abs(u - exact) / exact;
+  if (nw > 0) {
+    const double rw = wR / nw, hw = p * a * a * a / (b * b * b - a * a * a) *
+                                     (1.0 + b * b * b / (2.0 * rw * rw * rw));
+    std::printf("  3D wall estimate: hoop %.1f Pa at r = %.5f (Lame %.1f, %.2f %%); wet particles' "
+                "own hoop %.1f (%.2f %%)\n", wHoop / nw, rw, hw, 100 * (wHoop / nw / hw - 1),
+                pHoop / nw, 100 * (pHoop / nw / hw - 1));
+  }
   std::printf("  3D lattice, dx %g: water p = %.1f Pa, u(%.5f) = %.4e m (Lame %.4e, "
               "%.2f %%), %lld particles, %.1f s\n",
               dx, p, r, u, exact, 100.0 * err, static_cast<long long>(st.realCount()), clock.seconds());
