@@ -307,6 +307,15 @@ void ElasticSolidModule::configure(Simulation& sim, const std::vector<const Mate
         section->fail("hourglass_form", "hourglass control is for the total_lagrangian "
                                         "formulation only");
     }
+    // Where D is committed (docs/damage.md "The commit lag"): `step_end` (default) after the
+    // step, the stored acceleration keeping D^n for the next half kick (an O(dt) lag);
+    // `evaluation` at every rate evaluation before the stress (a^{n+1} with D^{n+1}).
+    if (section->has("damage_commit")) {
+      commitAtEvaluation_ =
+          section->choice("damage_commit", "step_end", {"step_end", "evaluation"}) == "evaluation";
+      if (!anyDamage_)
+        section->fail("damage_commit", "no elastic material of the run has a `damage:` law");
+    }
     if (section->has("gravity")) {
       const auto g = section->reals("gravity", static_cast<size_t>(dim));
       for (int a = 0; a < dim; ++a) gravity_[static_cast<size_t>(a)] = g[static_cast<size_t>(a)];
@@ -333,6 +342,7 @@ void ElasticSolidModule::configure(Simulation& sim, const std::vector<const Mate
   if (anyDamage_) {
     damage_ = s.addReal("damage", 1, kFieldOutput | kFieldCheckpoint, me);
     damageReleased_ = s.addReal("damage_dissipation", 1, kFieldCheckpoint, me);
+    damageDegradable_ = s.addReal("damage_degradable_energy", 1, kFieldCheckpoint, me);
     bool history = false;
     for (const auto& e : mats_) history = history || e.law.type == DamageLawType::RankineMohrCoulomb;
     if (history) damageHistory_ = s.addReal("damage_history", kDamageHistory, kFieldCheckpoint, me);
@@ -374,6 +384,10 @@ const Kernel& ElasticSolidModule::solidKernel(const Simulation& sim) const {
 void ElasticSolidModule::initialise(Simulation& sim) {
   if (ownH_ > 0.0) kernel_ = Kernel(sim.kernel.type(), sim.dimension(), ownH_);
   dispatchDimension(sim.dimension(), [&](auto d) { initialiseDim<decltype(d)::value>(sim); });
+  if (anyDamage_) {  // no commit yet: the first one releases with its own degradable energy
+    double* phi = sim.store.data(damageDegradable_);
+    std::fill(phi, phi + sim.store.realCount(), -1.0);
+  }
   initialised_ = true;
 }
 
@@ -930,6 +944,9 @@ void ElasticSolidModule::kinematicsDim(Simulation& sim) {
 // constitutive: SVK (2.71-2.74, 2.78) or the isotropic small-strain law (2.84)
 // ------------------------------------------------------------------------------------------------
 void ElasticSolidModule::constitutive(Simulation& sim) {
+  // the damage commit at the strain of this evaluation, before the stress uses it (damage.cpp)
+  if (anyDamage_ && commitAtEvaluation_ && !freezeDamage)
+    dispatchDimension(sim.dimension(), [&](auto d) { commitDamageDim<decltype(d)::value>(sim); });
   dispatchDimension(sim.dimension(), [&](auto d) { constitutiveDim<decltype(d)::value>(sim); });
 }
 

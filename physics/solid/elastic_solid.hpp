@@ -110,7 +110,7 @@ class ElasticSolidModule : public Module {
   void constitutive(Simulation& sim) override;
   void forces(Simulation& sim) override;
   void constraints(Simulation& sim) override;
-  /// Damage commit D^{n+1} from the strain at x^{n+1} (only when a material has damage).
+  /// Damage commit after the step (`damage_commit: step_end`, the default; damage.cpp).
   void endOfStep(Simulation& sim, double dt) override;
   /// The clipped-update counter is run state: checkpointed so a restart continues the count.
   ModuleState saveState() const override {
@@ -176,6 +176,9 @@ class ElasticSolidModule : public Module {
   double damageDissipationYc(const Simulation& sim) const;
   /// Damage updates the criterion asked to take past s_l (clipped), since the start.
   long clippedDamageUpdates() const { return clippedUpdates_; }
+  /// Unit tests of the force at a frozen damage field (SolidVariational): no commit in the
+  /// evaluation (damage.cpp), the stress uses the damage field as it is.
+  bool freezeDamage = false;
 
   /// Factor applied to the elastic limit of Eq. 2.50 when a step is checked (1 = the thesis).
   double courant = 1.0;
@@ -218,6 +221,7 @@ class ElasticSolidModule : public Module {
   // per-step scratch of the conservative form (effective stress P - M/2 and the direct pair
   // force per particle; grows with the particle count, never shrinks)
   bool anyHourglass_ = false, hourglassConservative_ = true;
+  bool commitAtEvaluation_ = false;  ///< `damage_commit: evaluation` (damage.cpp)
   double hourglassOmega2_ = 0.0;  ///< largest omega^2 the hourglass penalty adds (step limit)
  public:
   /// The largest omega^2 of the hourglass control (0 without it) [1/s^2] (tests, docs).
@@ -245,6 +249,9 @@ class ElasticSolidModule : public Module {
   // density; registered only when a material has damage
   bool anyDamage_ = false;
   RealField damage_, damageHistory_, damageReleased_;
+  /// degradable energy density (the coefficient of g(D): psi+ and the hourglass penalty share)
+  /// at the last commit, for the step's trapezoidal release (damage.cpp); < 0: none yet
+  RealField damageDegradable_;
   long clippedUpdates_ = 0;
   std::vector<Index> idToIndex_;
   /// Periods of the periodic axes (0 on the others): TL reference families that cross a

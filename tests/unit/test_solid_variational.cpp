@@ -138,12 +138,14 @@ TEST(SolidVariational, PairwiseHourglassSpringIsNotAGradient) {
 }
 
 TEST(SolidVariational, DamagedForceIsTheGradientOfTheDamagedStoredEnergy) {
-  // A frozen damage field (D between 0 and 0.9, committed only at the end of a step): the force
+  // A frozen damage field (D between 0 and 0.9, no commit in the evaluation): the force
   // must be -dE/dx of sum V [g(D) psi+ + psi-] (Eq. 4.17 with the unilateral split 4.18), on a
   // deformation with both tensile and compressed particles.
   for (const char* law : {"at2, critical_energy_release: 2500", "at1, critical_energy_release: 2500",
                           "pcw, strain_onset: 0.022, strain_ultimate: 0.06"}) {
     auto sim = disorderedBlock<2>(7, 0.0, "", 11, std::string(", damage: {law: ") + law + "}");
+    // the evaluation commits D at its strain (damage.cpp): frozen here
+    dynamic_cast<ElasticSolidModule*>(sim->module("solid"))->freezeDamage = true;
     ParticleStore& s = sim->store;
     double* dm = s.data(s.real("damage"));
     for (Index i = 0; i < s.realCount(); ++i) dm[i] = 0.9 * (0.5 + 0.5 * std::sin(1.7 * i));
@@ -174,6 +176,7 @@ TEST(SolidVariational, HourglassPenaltyIsDegradedWithTheDamage) {
   const std::string law = ", damage: {law: at2, critical_energy_release: 2500}";
   auto sim = disorderedBlock<2>(7, 1.0, "", 11, law);
   auto* solid = dynamic_cast<ElasticSolidModule*>(sim->module("solid"));
+  solid->freezeDamage = true;  // the evaluation commits D at its strain (damage.cpp): frozen here
   ParticleStore& s = sim->store;
   double* dm = s.data(s.real("damage"));
   sim->evaluateRates();

@@ -46,6 +46,15 @@ struct PlateSetup {
   long maxSteps = -1;         ///< stop after so many steps (cost measurements), -1: the whole ramp
   Inclusion inclusion = Inclusion::Clamped;
   double bodyDamping = 600.0; ///< 1/s, the free body's `damping` (as the clay's: quasi-static)
+  double dtFactor = 0.5;      ///< dt = dtFactor x the solid's step limit (Eq. 2.50 with the AV term)
+  double avAlpha = 0.0;       ///< Monaghan artificial viscosity (Eqs. 2.64-2.65; thesis Tab. 4.2: 41)
+  double avBeta = 0.0;        ///< its beta
+  /// crack-crossing measure: a lateral side counts as reached when a particle within
+  /// `crossDepth` x dx of it has D >= crossThreshold (< 0: the onset threshold)
+  double crossThreshold = -1.0;
+  double crossDepth = 1.5;
+  /// the solid's `damage_commit` (docs/damage.md "The commit lag"): step_end or evaluation
+  std::string damageCommit = "step_end";
 };
 
 struct PlateResult {
@@ -93,15 +102,18 @@ inline PlateResult runPlate(const PlateSetup& s) {
   const double L = 0.3, a = 0.05, E = 12000e6, nu = 0.25, rho = 1e6;
   Simulation sim(2);
   char buf[512];
+  char av[120] = "";  // the solid's own artificial-viscosity term (elastic_solid.cpp), both materials
+  if (s.avAlpha > 0.0 || s.avBeta > 0.0)
+    std::snprintf(av, sizeof av, ", artificial_viscosity: {alpha: %g, beta: %g}", s.avAlpha, s.avBeta);
   std::snprintf(buf, sizeof buf,
                 "{density: %g, young_modulus: %g, poisson_ratio: %g, formulation: total_lagrangian, "
-                "hourglass: %g, damping: %g%s%s}",
-                rho, E, nu, s.hourglass, s.damping, s.law.empty() ? "" : ", damage: ", s.law.c_str());
+                "hourglass: %g, damping: %g%s%s%s}",
+                rho, E, nu, s.hourglass, s.damping, av, s.law.empty() ? "" : ", damage: ", s.law.c_str());
   addMaterial(sim, "matrix", "elastic", buf);
   std::snprintf(buf, sizeof buf,
                 "{density: %g, young_modulus: %g, poisson_ratio: %g, formulation: total_lagrangian, "
-                "hourglass: %g, damping: %g}",
-                rho, E, nu, s.hourglass, s.damping);
+                "hourglass: %g, damping: %g%s}",
+                rho, E, nu, s.hourglass, s.damping, av);
   const bool rigidInclusion = s.inclusion != Inclusion::Clamped;
   if (rigidInclusion) {
     std::snprintf(buf, sizeof buf, "{density: %g, bonded: true, damping: %g%s}", rho, s.bodyDamping,
@@ -131,11 +143,12 @@ inline PlateResult runPlate(const PlateSetup& s) {
                 "{name: bottom, type: clamped, box: {min: [-1, -1], max: [1, %.9g]}}, ",
                 -0.5 * L + s.support);
   const std::string bottom = bottomBuf;
+  const std::string commitKey = s.law.empty() ? "" : "damage_commit: " + s.damageCommit + ", ";
   std::snprintf(buf, sizeof buf,
-                "{boundaries: [%s%s"
+                "{%sboundaries: [%s%s"
                 "{name: top, type: displacement, displacement: [0, %.9g], components: [y], "
                 "ramp_time: %.9g, box: {min: [-1, %.9g], max: [1, 1]}}]}",
-                s.clampBottom ? bottom.c_str() : "",
+                commitKey.c_str(), s.clampBottom ? bottom.c_str() : "",
                 rigidInclusion ? "" : "{name: inclusion, type: clamped, material: inclusion}, ", s.uMax,
                 ramp, yTop);
   ElasticSolidModule& solid = addSolidModule(sim, buf);
@@ -164,7 +177,7 @@ inline PlateResult runPlate(const PlateSetup& s) {
   }
   r.particles = sim.store.realCount();
   // the bonds' own limit (RigidModule::timeStepLimit; no motion yet) where they are present
-  const double dt = std::min(0.5 * solid.elasticTimeStepLimit(sim),
+  const double dt = std::min(s.dtFactor * solid.elasticTimeStepLimit(sim),
                              rigid ? rigid->timeStepLimit(sim) : 1e300);
   r.dt = dt;
   auto bodyMotion = [&](double& ux, double& uy, double& rot) {
@@ -234,8 +247,13 @@ inline PlateResult runPlate(const PlateSetup& s) {
     const double u = s.uMax * sim.time / ramp;
     const double* D = sim.store.data(sim.store.real("damage"));
     bool left = false, right = false;
+    const double crossD = s.crossThreshold < 0.0 ? s.threshold : s.crossThreshold;
     for (Index i = 0; i < sim.store.realCount(); ++i) {
       if (mat[i] != 0 || mo[i] == kMotionPrescribed) continue;
+      if (D[i] >= crossD) {
+        if (X[2 * i] < -0.5 * L + s.crossDepth * dx) left = true;
+        if (X[2 * i] > 0.5 * L - s.crossDepth * dx) right = true;
+      }
       if (r.uOnsetLow == 0.0 && D[i] >= s.lowThreshold) {
         r.uOnsetLow = u;
         r.xOnsetLow = X[2 * i];
@@ -252,8 +270,6 @@ inline PlateResult runPlate(const PlateSetup& s) {
         bodyMotion(r.bodyUxOnset, r.bodyUyOnset, r.bodyRotOnset);
         if (!s.dump.empty()) dumpCsv(s.dump + "_onset.csv", sim);
       }
-      if (X[2 * i] < -0.5 * L + 1.5 * dx) left = true;
-      if (X[2 * i] > 0.5 * L - 1.5 * dx) right = true;
     }
     if (left && right && !crossed) {
       crossed = true;

@@ -90,7 +90,9 @@ BarRun run(int n, double lambda, bool damage = true) {
   solid.initialise(sim);
   const double c = std::sqrt(E / rho);
   const double tEnd = 1.5 * L / c;
-  const double dt = 0.5 * solid.elasticTimeStepLimit(sim);
+  // PORESPH_DAMAGE_BAR_DT: dt / step limit (studies of docs/damage.md; default 0.5)
+  const char* dtEnv = std::getenv("PORESPH_DAMAGE_BAR_DT");
+  const double dt = (dtEnv ? std::atof(dtEnv) : 0.5) * solid.elasticTimeStepLimit(sim);
   auto integrator = makeIntegrator("leapfrog");
   BarRun r;
   long steps = 0;

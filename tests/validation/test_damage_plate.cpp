@@ -1,7 +1,9 @@
 // Validation item 3 of issue 13 at a coarse resolution the default suite affords: the plate with
 // a rigid inclusion of thesis Sec. 4.3 (see damage_plate_case.hpp). `Explore` (skipped unless
 // PORESPH_PLATE=dx,2h,u,ramp,damping,hourglass,law,Yc0 is set; PORESPH_PLATE_BOTTOM,
-// PORESPH_PLATE_DUMP, PORESPH_PLATE_STEPS, PORESPH_PLATE_THRESHOLD = onset D) is the driver of the studies quoted in docs/damage.md.
+// PORESPH_PLATE_DUMP, PORESPH_PLATE_STEPS, PORESPH_PLATE_THRESHOLD = onset D, PORESPH_PLATE_DT = dt / step limit,
+// PORESPH_PLATE_AV = alpha,beta of the artificial viscosity, PORESPH_PLATE_CROSS = D,depth in dx
+// of the crossing measure, PORESPH_PLATE_COMMIT = step_end or evaluation, default evaluation) is the driver of the studies quoted in docs/damage.md.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -29,6 +31,11 @@ TEST(DamagePlate, Explore) {
   s.clampBottom = std::getenv("PORESPH_PLATE_BOTTOM") != nullptr;
   if (const char* m = std::getenv("PORESPH_PLATE_STEPS")) s.maxSteps = std::atol(m);
   if (const char* t = std::getenv("PORESPH_PLATE_THRESHOLD")) s.threshold = std::atof(t);
+  if (const char* c = std::getenv("PORESPH_PLATE_DT")) s.dtFactor = std::atof(c);
+  if (const char* c = std::getenv("PORESPH_PLATE_AV")) std::sscanf(c, "%lf,%lf", &s.avAlpha, &s.avBeta);
+  if (const char* c = std::getenv("PORESPH_PLATE_CROSS")) std::sscanf(c, "%lf,%lf", &s.crossThreshold, &s.crossDepth);
+  s.damageCommit = "evaluation";
+  if (const char* c = std::getenv("PORESPH_PLATE_COMMIT")) s.damageCommit = c;
   if (lawName == "none") s.law.clear();
   const PlateResult r = runPlate(s);
   std::printf("dx %g 2h %g u %g ramp %g damp %g hg %g %s: %ld particles %ld steps, onset u = %.2f um at "
@@ -43,7 +50,7 @@ TEST(DamagePlate, Explore) {
 // clamped with the inclusion (see docs/damage.md: with the inclusion alone the crack wraps around
 // it and runs down to the bottom edge). Asserted: onset on the upper half of the inclusion boundary, a crack that
 // reaches both sides, left-right symmetry within 10 %, damaged width within a factor 2 of 2h,
-// energy balance within 3 % of the boundary work.
+// energy balance within 0.2 % of the boundary work.
 // The imposed displacements at onset and crossing are recorded beside the thesis' 17.4 / 19.8 um
 // (2h = 5 mm, 300 x 300 points: not comparable at this resolution, not asserted).
 TEST(DamagePlate, CoarseTensionAT2CrackFromTheInclusionTopToBothSides) {
@@ -55,8 +62,9 @@ TEST(DamagePlate, CoarseTensionAT2CrackFromTheInclusionTopToBothSides) {
   s.clampBottom = true;
   // No hourglass control: with hourglass 1 (E-stiff springs that the damage does not soften and
   // whose energy is not in the stored energy) the crack needs ~2x the onset displacement to cross
-  // and the energy balance leaves 14-18 % of the work; without it 1.3 % (docs/damage.md).
+  // and the energy balance leaves 14-18 % of the work; without it 0.05 % (docs/damage.md).
   s.hourglass = 0.0;
+  s.damageCommit = "evaluation";  // a^{n+1} with D^{n+1} (docs/damage.md "The commit lag")
   const PlateResult r = runPlate(s);
   const double a = 0.05;
   std::printf("coarse plate: %ld particles, %ld steps, onset u = %.2f um at (%.1f, %.1f) mm, crossing "
@@ -72,10 +80,16 @@ TEST(DamagePlate, CoarseTensionAT2CrackFromTheInclusionTopToBothSides) {
   EXPECT_LT(rOnset, a + 2 * s.support);
   EXPECT_GT(r.uCross, r.uOnset) << "the crack did not reach both sides";
   EXPECT_LT(r.asymmetry, 0.10);
-  EXPECT_GT(r.widthCross, 0.5 * s.support);
-  EXPECT_LT(r.widthCross, 2.0 * s.support);
-  EXPECT_LT(r.balance, 0.03) << "energy balance residual / work of the boundaries";
-  const std::string res = "60 x 60 points (dx = 5 mm), 2h = 12.5 mm, TL, no hourglass control, damping 600/s";
+  // the damaged width at the end of the ramp (the crack formed): at the instant the tip reaches
+  // the sides the band at x = +-(a + L/6) is one or two particles (5 / 10 mm at dt 0.5 / 0.25 x
+  // Eq. 2.50, the same u), at the end 10 mm at every dt (docs/damage.md "The commit lag")
+  EXPECT_GT(r.width, 0.5 * s.support);
+  EXPECT_LT(r.width, 2.0 * s.support);
+  // measured 5.0e-4 with the damage committed at the evaluation and the trapezoidal release
+  // (2.6e-4 / 1.9e-4 at dt 0.25 / 0.125); 1.3 % when it was committed after the step
+  EXPECT_LT(r.balance, 0.002) << "energy balance residual / work of the boundaries";
+  const std::string res = "60 x 60 points (dx = 5 mm), 2h = 12.5 mm, TL, no hourglass control, damping 600/s, "
+                          "damage_commit: evaluation";
   test::recordValidation({"damage_plate_coarse_at2_tension", "imposed displacement at onset [um]",
                           1e6 * r.uOnset, 17.4, std::abs(1e6 * r.uOnset - 17.4) / 17.4, res, r.wall,
                           "recorded (thesis at 300 x 300, 2h = 5 mm)", "thesis Sec. 4.3.2.1, Fig. 4.14"});
@@ -83,10 +97,10 @@ TEST(DamagePlate, CoarseTensionAT2CrackFromTheInclusionTopToBothSides) {
                           1e6 * r.uCross, 19.8, std::abs(1e6 * r.uCross - 19.8) / 19.8, res, r.wall,
                           "crossing > onset (thesis at 300 x 300, 2h = 5 mm)", "thesis Sec. 4.3.2.1, Fig. 4.14"});
   test::recordValidation({"damage_plate_coarse_at2_tension", "energy balance residual / boundary work",
-                          r.balance, 0.0, r.balance, res, r.wall, "< 3 %", "Eqs. 4.25-4.26 with the boundary work"});
+                          r.balance, 0.0, r.balance, res, r.wall, "< 0.2 %", "Eqs. 4.25-4.26 with the boundary work"});
   test::recordValidation({"damage_plate_coarse_at2_tension", "left-right asymmetry of D", r.asymmetry, 0.0,
                           r.asymmetry, res, r.wall, "< 10 %", "thesis Sec. 4.3.2.1 (symmetric pattern)"});
-  test::recordValidation({"damage_plate_coarse_at2_tension", "damaged width (D >= 0.5) at crossing [m]",
-                          r.widthCross, s.support, std::abs(r.widthCross - s.support) / s.support, res, r.wall,
+  test::recordValidation({"damage_plate_coarse_at2_tension", "damaged width (D >= 0.5) at the end of the ramp [m]",
+                          r.width, s.support, std::abs(r.width - s.support) / s.support, res, r.wall,
                           "0.5-2 x 2h", "thesis Fig. 4.14c (width ~ 2h)"});
 }
