@@ -2,7 +2,8 @@
 // Wetting on a wall that is not aligned with the particle lattice (issue 14): a flat wall tilted
 // by alpha, represented as the lattice sites below the tilted line (a voxel staircase, as every
 // pore wall of an imaged rock is). Scene (2D, not periodic): the fluid fills a rectangle of
-// 5 R0 x 2.5 R0 in the wall's frame (t along the wall, s normal to it, s > 0 in the fluid),
+// L x 2.5 R0 in the wall's frame (L = 5 R0 unless boxLength says otherwise: a 30-degree cap of the
+// half disc's area is 4.2 R0 wide and touches the ends of a 5 R0 box once it drifts) (t along the wall, s normal to it, s > 0 in the fluid),
 // 3 dx of wall particles (contact angle theta) below s = 0, and 3 dx of "lid" walls of angle
 // 180 degrees (the gas colour: no interface along them) around the other sides. The drop starts
 // as a rectangle standing on the wall (width 1.8 R0, the area of a half disc of radius R0): not
@@ -39,7 +40,7 @@ struct TiltedSessile {
   int liquid = 0, gas = 1;
 
   TiltedSessile(double thetaDeg, double alphaDeg, double radius, int rOverDx, const std::string& extra = "",
-                double viscosity = 0.05, double halfWidth = 0.9) {
+                double viscosity = 0.05, double halfWidth = 0.9, double boxLength = 5.0) {
     namespace fs = poresph::fluidsetup;
     R0 = radius;
     mu = viscosity;
@@ -47,7 +48,7 @@ struct TiltedSessile {
     alpha = alphaDeg * kPi / 180.0;
     t = Eigen::Vector2d(std::cos(alpha), std::sin(alpha));
     n = Eigen::Vector2d(-std::sin(alpha), std::cos(alpha));
-    const double Lt = 5.0 * R0, Hs = 2.5 * R0, w = 3.0 * dx;
+    const double Lt = boxLength * R0, Hs = 2.5 * R0, w = 3.0 * dx;
     // bounding box of the rectangle grown by the wall thickness
     double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
     for (double a : {-0.5 * Lt - w, 0.5 * Lt + w})
@@ -239,10 +240,10 @@ struct WettingAverage {
 };
 
 inline WettingAverage runWettingAverage(double thetaDeg, double alphaDeg, int rdx, double tEnd, double viscosity,
-                                        const std::string& extra = "", double every = 0.005) {
+                                        const std::string& extra = "", double every = 0.005, double boxLength = 5.0) {
   Stopwatch clock;
   const std::clock_t c0 = std::clock();
-  TiltedSessile s(thetaDeg, alphaDeg, 1.5e-3, rdx, extra, viscosity);
+  TiltedSessile s(thetaDeg, alphaDeg, 1.5e-3, rdx, extra, viscosity, 0.9, boxLength);
   WettingAverage r;
   double rc = 0, sc = 0;
   int np = 0;
@@ -268,7 +269,10 @@ inline WettingAverage runWettingAverage(double thetaDeg, double alphaDeg, int rd
               r.particles, r.steps, r.wall, r.cpu);
   std::fflush(stdout);
   char name[96];
-  std::snprintf(name, sizeof name, "fluid_wetting_flat_theta%.0f_r%d.txt", thetaDeg, rdx);
+  if (alphaDeg == 0.0)
+    std::snprintf(name, sizeof name, "fluid_wetting_flat_theta%.0f_r%d.txt", thetaDeg, rdx);
+  else
+    std::snprintf(name, sizeof name, "fluid_wetting_avg_tilt%.0f_theta%.0f_r%d.txt", alphaDeg, thetaDeg, rdx);
   s.dump(name);
   return r;
 }
