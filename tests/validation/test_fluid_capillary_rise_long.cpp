@@ -20,7 +20,7 @@ void checkJurin(double theta, double tEnd, double tolerance, double settle) {
   const double drift = (r.mean - r.meanPrev) / r.jurin;
   char q[160], tol[160];
   std::snprintf(q, sizeof q, "mean rise between plates at %.0f deg after %.0f ms (wetting_ghost)", theta, 1e3 * tEnd);
-  std::snprintf(tol, sizeof tol, "|error| < %.0f %%, change over the last 20 %% of the run < %.0f %% of Jurin",
+  std::snprintf(tol, sizeof tol, "error < %.0f %% (absolute value), change over the last 20 %% of the run < %.0f %% of Jurin",
                 100 * tolerance, 100 * settle);
   test::recordValidation({"fluid_capillary_rise_2d", q, r.mean, r.jurin, std::abs(err), kRes, r.wall, tol,
                           "Jurin's law for plates 2 gamma cos(theta) / (drho g w) (Young-Laplace, Eq. 1.5)"});
