@@ -342,13 +342,8 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
               sa.p = pa;
               sa.props = mA;
               sa.v = va;
-              BoundaryPairSide<D> sb;
-              sb.p = f.p[j];
-              sb.volume = vol[j];
-              sb.rho = wallRho ? wallRho[j] : 0.0;
-              sb.v = vb;
-              for (int a = 0; a < D; ++a) sb.vNoSlip[a] = f.vw[j * D + a];
-              const FluidPairResult<D> tr = fluidBoundaryPair<D>(r, F, sa, sb, pairSettings);
+              const FluidPairResult<D> tr =
+                  fluidBoundaryPair<D>(r, F, sa, wallPairSide<D>(f, j, vol, wallRho, vb), pairSettings);
               accA += tr.pressure;
               accA += fa * tr.viscous;
               accA += tr.artificial;
@@ -362,14 +357,9 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
               sa.p = f.p[j];
               sa.props = &md[idb];
               sa.v = vb;
-              BoundaryPairSide<D> sb;
-              sb.p = pa;
-              sb.volume = vol[i];
-              sb.rho = wallRho ? wallRho[i] : 0.0;
-              sb.v = va;
-              for (int a = 0; a < D; ++a) sb.vNoSlip[a] = f.vw[i * D + a];
               const Vec<D> rji = -r;
-              const FluidPairResult<D> tr = fluidBoundaryPair<D>(rji, F, sa, sb, pairSettings);
+              const FluidPairResult<D> tr =
+                  fluidBoundaryPair<D>(rji, F, sa, wallPairSide<D>(f, i, vol, wallRho, va), pairSettings);
               const double fb = f.visc ? f.visc[j] : 1.0;
               const Vec<D> s = tr.pressure + fb * tr.viscous + tr.artificial;
               for (int a = 0; a < D; ++a) tb[a] += s[a];

@@ -897,13 +897,8 @@ void FluidModule::forcesD(Simulation& sim) {
         }
         if (f.ph[j] == kPhaseWall) {
           // Fixed boundary: extrapolated pressure, no-slip velocity (the shared pair terms).
-          BoundaryPairSide<D> sideB;
-          sideB.p = f.p[j];
-          sideB.volume = vol[j];
-          sideB.rho = wallRho ? wallRho[j] : 0.0;
-          sideB.v = vb;
-          for (int a = 0; a < D; ++a) sideB.vNoSlip[a] = f.vw[j * D + a];
-          const FluidPairResult<D> t = fluidBoundaryPair<D>(r, F, sideA, sideB, pairSettings);
+          const FluidPairResult<D> t =
+              fluidBoundaryPair<D>(r, F, sideA, wallPairSide<D>(f, j, vol, wallRho, vb), pairSettings);
           aP += t.pressure;
           aV += fa * t.viscous;
           aA += t.artificial;

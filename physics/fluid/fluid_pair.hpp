@@ -13,6 +13,7 @@
 //   XSPH        2 m_b / (rho_a + rho_b) W (v_b - v_a)           (Eq. 2.66)
 // The continuity term is libcore's continuityTerm (Eq. 5.1a or the mass form).
 #include "libcore/artificial_viscosity.hpp"
+#include "libcore/fluid_pair_terms.hpp"
 #include "libcore/types.hpp"
 
 namespace poresph {
@@ -82,6 +83,22 @@ template <int D>
 inline Vec<D> xsphTerm(double mb, double rhoa, double rhob, double W, const Vec<D>& vb,
                        const Vec<D>& va) {
   return (2.0 * mb / (rhoa + rhob) * W) * (vb - va);
+}
+
+/// The wall side of a fluid-wall pair (Adami et al. 2012 fixed boundary: extrapolated pressure,
+/// no-slip velocity, the wall's own volume and velocity), built from the module's store pointers
+/// `f` (FluidModule::Fields) for wall particle k; `wallRho` the wall density for the fluid of the
+/// pair when precomputed (null: computed per pair). Used by the gather and the symmetric loops.
+template <int D, class Fields>
+inline BoundaryPairSide<D> wallPairSide(const Fields& f, Index k, const double* vol, const double* wallRho,
+                                        const Vec<D>& vk) {
+  BoundaryPairSide<D> s;
+  s.p = f.p[k];
+  s.volume = vol[k];
+  s.rho = wallRho ? wallRho[k] : 0.0;
+  s.v = vk;
+  for (int a = 0; a < D; ++a) s.vNoSlip[a] = f.vw[k * D + a];
+  return s;
 }
 
 }  // namespace poresph
