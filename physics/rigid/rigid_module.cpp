@@ -561,16 +561,55 @@ void RigidModule::plateBondDeltas(const Simulation& sim) {
   const double* origin = st.data(plateOrigin_);
   const int S = plateSlots_;
   const size_t np = plateBonds_.size();
+  // Damage-aware weights (docs/rigid.md "Damage-aware weights"). c_a = n . s_a / sum n . s_a is
+  // the consistent load (Eq. 2.76) of the UNDAMAGED solid: the share of a uniform traction each
+  // tied particle takes through its reference corrected gradients. A particle of damage D_a
+  // carries, in the continuum-damage reading of D (effective stress sigma / (1 - D), the damaged
+  // fraction of its section carries none; g(D) = 1 - D of the Rankine/Mohr-Coulomb law of the
+  // main job, Eq. 4.18a), the fraction (1 - D_a) of that share; fixed c_a would hand a fully
+  // damaged particle the load of a sound one and crush it. Hence
+  //   c~_a = c_a (1 - D_a) / sum_b c_b (1 - D_b),
+  // in the mean displacement and in the force K delta c~_a n alike (the bond's energy
+  // K delta^2 / 2 at frozen weights), sum_a c~_a = 1 (action = reaction, -K delta n on the plate).
+  // No damage among a plate's particles: c~_a = c_a exactly (the undamaged case unchanged bit for
+  // bit). All of them fully damaged (sum c_b (1 - D_b) <= 1e-12): c_a kept (nothing sound left to
+  // prefer). Known limit (docs/rigid.md): the volumetric split (4.17) keeps the bulk stiffness in
+  // compression, which 1 - D ignores; where most of a face is damaged the renormalisation puts
+  // the plate's load on its few sound particles (1 / sum c_b (1 - D_b) times their share).
+  const double* dmg = st.has("damage") ? st.data(st.real("damage")) : nullptr;
+  for (PlateBond& P : plateBonds_) {
+    P.degraded = false;
+    P.sound = 0.0;
+    P.damagedShareFixed = 0.0;
+    P.damagedShare = 0.0;
+  }
+  for (Index i = 0; i < n; ++i) {
+    if (slot[i * S] < 0) continue;
+    const double Da = dmg ? std::clamp(dmg[i], 0.0, 1.0) : 0.0;
+    for (int q = 0; q < S && slot[i * S + q] >= 0; ++q) {
+      PlateBond& P = plateBonds_[static_cast<size_t>(slot[i * S + q])];
+      if (Da > 0.0) P.degraded = true;
+      P.sound += weight[i * S + q] * plateSoundFactor(Da);
+      if (Da > 0.5) P.damagedShareFixed += weight[i * S + q];
+    }
+  }
+  for (PlateBond& P : plateBonds_)
+    if (!P.degraded || !(P.sound > 1e-12)) {
+      P.degraded = false;
+      P.sound = 1.0;
+    }
   std::vector<double> mean(np, 0.0);
   for (Index i = 0; i < n; ++i) {
     if (slot[i * S] < 0) continue;
     Vec<D> u;
     for (int a = 0; a < D; ++a) u[a] = wrapDelta(x[i * D + a] - origin[i * D + a], sim.domain, a);
     for (int q = 0; q < S && slot[i * S + q] >= 0; ++q) {
-      const PlateBond& P = plateBonds_[static_cast<size_t>(slot[i * S + q])];
+      PlateBond& P = plateBonds_[static_cast<size_t>(slot[i * S + q])];
       double un = 0.0;
       for (int a = 0; a < D; ++a) un += P.n[a] * u[a];
-      mean[static_cast<size_t>(slot[i * S + q])] += weight[i * S + q] * un;
+      const double c = plateWeightOf(P, weight[i * S + q], dmg ? dmg[i] : 0.0);
+      mean[static_cast<size_t>(slot[i * S + q])] += c * un;
+      if (dmg && dmg[i] > 0.5) P.damagedShare += c;
     }
   }
   for (size_t p = 0; p < np; ++p) {
@@ -945,6 +984,7 @@ void RigidModule::interfacesD(Simulation& sim) {
   const std::int32_t* plateSlot = S > 0 ? st.data(plateBond_) : nullptr;
   const double* plateW = S > 0 ? st.data(plateWeight_) : nullptr;
   if (!plateBonds_.empty()) plateBondDeltas<D>(sim);
+  const double* dmg = (S > 0 && st.has("damage")) ? st.data(st.real("damage")) : nullptr;
   // Solid particle j is tied to rigid body b (by its own bond or a plate's weighted bond): the
   // bond replaces the A.18 contact between them, on both sides of the pair.
   auto tiedTo = [&](Index j, int b) {
@@ -992,10 +1032,11 @@ void RigidModule::interfacesD(Simulation& sim) {
         Vec<D> dvec;
         f += bondForce<D>(sim, i, x, mt, dvec);
       }
-      // plate bonds: K delta c_a n of every plate the particle is tied to
+      // plate bonds: K delta c~_a n of every plate the particle is tied to (damage-aware c~_a)
       for (int q = 0; plateSlot && q < S && plateSlot[i * S + q] >= 0; ++q) {
         const PlateBond& P = plateBonds_[static_cast<size_t>(plateSlot[i * S + q])];
-        for (int c = 0; c < D; ++c) f[c] += P.stiffness * P.delta * plateW[i * S + q] * P.n[c];
+        const double ca = plateWeightOf(P, plateW[i * S + q], dmg ? dmg[i] : 0.0);
+        for (int c = 0; c < D; ++c) f[c] += P.stiffness * P.delta * ca * P.n[c];
       }
       for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
         const Index j = nl.index[static_cast<size_t>(k)];

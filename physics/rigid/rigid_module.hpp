@@ -35,6 +35,7 @@
 // Constraints (material keys): fixed bodies, translation along chosen axes only, no rotation,
 // and force-controlled plates (a plate pushed along `direction` by stress x area that moves to
 // keep it; its displacement is a timeseries column).
+#include <algorithm>
 #include <array>
 #include <string>
 #include <vector>
@@ -129,6 +130,10 @@ class RigidModule : public Module {
   /// reaction). For a linear displacement field sum c_a n . u_a is the displacement of the
   /// body's surface itself, and the plate's load spread as c_a is the one that holds a uniform
   /// stress in exact discrete equilibrium.
+  /// Damage-aware weights: where a tied particle carries damage D_a > 0 (the store's `damage`
+  /// field, Eqs. 4.12-4.18), c_a is replaced by c_a (1 - D_a) / sum_b c_b (1 - D_b) in both the
+  /// mean and the force (still sum = 1); with no damage among the tied particles the weights are
+  /// c_a unchanged, bit for bit (docs/rigid.md "Damage-aware weights").
   struct PlateBond {
     int body = -1;
     rigid::V3 n = rigid::V3::Zero();
@@ -136,6 +141,10 @@ class RigidModule : public Module {
     double loadArea = 0.0;   ///< sum_a n . s_a: the face's discrete area (compare with `area`)
     Index particles = 0;     ///< solid particles tied to the plate
     double delta = 0.0;      ///< of the last evaluation
+    bool degraded = false;   ///< some tied particle had D > 0 at the last evaluation
+    double sound = 1.0;      ///< sum_a c_a (1 - D_a) at the last evaluation (1 if !degraded)
+    double damagedShareFixed = 0.0;  ///< sum_a c_a over tied particles with D_a > 0.5
+    double damagedShare = 0.0;       ///< the same share with the damage-aware weights
   };
   const std::vector<PlateBond>& plateBonds() const { return plateBonds_; }
   /// Body particles within one kernel support of their body's surface (App. A.2: only these take
@@ -157,6 +166,14 @@ class RigidModule : public Module {
   template <int D> void initialisePlateBonds(Simulation& sim);
   /// delta of every plate bond at the current positions (interfaces(), after bodyPlacement()).
   template <int D> void plateBondDeltas(const Simulation& sim);
+  /// Damage-aware weight c~_a of a tied particle with stored weight c_a and damage D_a, from the
+  /// plate's sum_b c_b (1 - D_b) of the same evaluation (plateBondDeltas; c_a if no damage).
+  /// Sound fraction 1 - D_a of a tied particle's consistent-load share (D clamped to [0, 1]).
+  static double plateSoundFactor(double Da) { return 1.0 - std::clamp(Da, 0.0, 1.0); }
+  static double plateWeightOf(const PlateBond& P, double c, double Da) {
+    if (!P.degraded) return c;
+    return c * plateSoundFactor(Da) / P.sound;
+  }
   void findSurface(Simulation& sim);
   /// Force of its bond on solid particle i (zero-length spring to its anchor point, which moves
   /// with the body: f = -K (x_i - X - R r_anchor), minimal image across periodic faces); the body

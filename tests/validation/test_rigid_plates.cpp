@@ -10,9 +10,12 @@
 // plates, slip, traction, pressure, slip3d, periodic).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "tests/validation/test_rigid_plates_case.hpp"
 
@@ -109,4 +112,97 @@ TEST(RigidPlates, ContactPlatesStayWithinTheirMeasuredError) {
                           r.meanU, r.uExact, r.worstU, "2D, 20 x 20 particles, plates 2 dx thick, A.18 contact",
                           r.seconds, "< 5 % (does not converge)",
                           "closed form s L / (4 (lambda + mu)), plane strain"});
+}
+
+// A `bonded: slip` plate over a damaged layer (docs/rigid.md "Damage-aware weights"): the block
+// periodic along x between two slip plates (as above, 20 across), Rankine/Mohr-Coulomb clay
+// (g(D) = 1 - D) whose onsets are out of reach, D = 0.99 imposed on the left half of the top
+// plate's tied particles (x < L/2, the two supports under the plate). The consistent-load weights
+// of the undamaged solid hand that half of the face half the plate's load, which its 1 % shear
+// stiffness cannot spread; the damage-aware weights c_a (1 - D_a) / sum c_b (1 - D_b) hand it
+// ~1 % of their former share. Checked on the clay's own stress: the mean sigma_yy of the damaged
+// tied particles against that of the sound tied ones, which must take the load the damaged half
+// sheds (about -2 s). Measured: ratio -0.050 (the damaged half slightly in tension), sound
+// -1.975e4 Pa = -1.98 s; with the fixed weights the damaged layer inverts (J < 0) at 8.0 ms.
+TEST(RigidPlates, SlipPlateHandsNoLoadToADamagedLayer) {
+  test::Stopwatch clock;
+  const int n = 20;
+  const double L = 0.02, dx = L / n, t = 2 * dx, sigma = 1.0e4;
+  std::ostringstream y;
+  y.precision(10);
+  y << "dimension: 2\n"
+    << "domain: {lo: [0.0, -0.01], hi: [0.02, 0.03], periodic: [true, false]}\n"
+    << "spacing: " << dx << "\n"
+    << "kernel: wendland_c2\nend_time: 0.012\ntime_step: {adaptive: true, cfl: 0.5}\n"
+    << "output: {every_steps: 100000000}\nmaterials:\n"
+    << "  - {name: clay, model: elastic, density: 2000, young_modulus: 1.0e6, poisson_ratio: 0.25, "
+       "formulation: total_lagrangian, damping: 3000, damage: {law: rankine_mohr_coulomb, "
+       "tensile_strain_onset: 0.5, tensile_strain_ultimate: 1.0, compressive_strain_onset: 0.9, "
+       "friction_angle: 25}}\n"
+    << "  - {name: bottom, model: rigid, density: 2000, contact_modulus: 5.0e7, bonded: slip, damping: 3000, plate: {direction: [0, 1], stress: 1.0e4, area: 0.02}}\n"
+    << "  - {name: top, model: rigid, density: 2000, contact_modulus: 5.0e7, bonded: slip, damping: 3000, plate: {direction: [0, -1], stress: 1.0e4, area: 0.02}}\n"
+    << "geometry:\n  - {shape: box, lo: [0.0, 0.0], hi: [0.02, 0.02], material: clay}\n"
+    << "  - {shape: box, lo: [0.0, " << -t << "], hi: [0.02, 0.0], material: bottom}\n"
+    << "  - {shape: box, lo: [0.0, 0.02], hi: [0.02, " << L + t << "], material: top}\n";
+  Scene s = loadSceneText(y.str(), "rigid_plates_damaged_layer.yaml");
+  Simulation& sim = *s.sim;
+  ParticleStore& st = sim.store;
+  auto integrator = makeIntegrator("leapfrog");
+  integrator->step(sim, s.nextTimeStep());  // set-up done (the store may reorder its particles)
+  const double reach = 2.0 * sim.kernel.support();
+  // the top plate's tied particles (within two supports below y = L), by id
+  std::vector<std::int32_t> damagedIds, soundIds;
+  {
+    const double* x = st.data(st.position());
+    const std::int32_t* ph = st.data(st.phase());
+    const std::int32_t* id = st.data(st.id());
+    double* dmg = st.data(st.real("damage"));
+    for (Index i = 0; i < st.realCount(); ++i) {
+      if (ph[i] != kPhaseSolid || !(x[i * 2 + 1] > L - reach)) continue;
+      if (x[i * 2] < 0.5 * L) {
+        dmg[i] = 0.99;
+        damagedIds.push_back(id[i]);
+      } else {
+        soundIds.push_back(id[i]);
+      }
+    }
+  }
+  ASSERT_FALSE(damagedIds.empty());
+  ASSERT_EQ(damagedIds.size(), soundIds.size());
+  while (!s.finished()) integrator->step(sim, s.nextTimeStep());
+  std::vector<Index> byId;
+  {
+    const std::int32_t* id = st.data(st.id());
+    for (Index i = 0; i < st.realCount(); ++i) {
+      if (static_cast<size_t>(id[i]) >= byId.size()) byId.resize(static_cast<size_t>(id[i]) + 1, -1);
+      byId[static_cast<size_t>(id[i])] = i;
+    }
+  }
+  std::vector<Index> damaged, sound;
+  for (std::int32_t k : damagedIds) damaged.push_back(byId[static_cast<size_t>(k)]);
+  for (std::int32_t k : soundIds) sound.push_back(byId[static_cast<size_t>(k)]);
+  const RealField stress = st.real("stress");
+  auto meanSyy = [&](const std::vector<Index>& set) {
+    double sum = 0.0;
+    for (Index i : set) sum += st.mat<2>(stress, i)(1, 1);
+    return sum / static_cast<double>(set.size());
+  };
+  double dmin = 1.0;
+  for (Index i : damaged) dmin = std::min(dmin, st.data(st.real("damage"))[i]);
+  const double sD = meanSyy(damaged), sS = meanSyy(sound);
+  double worstForce = 0.0;
+  for (const auto& [name, value] : sim.diagnostics())
+    if (name.rfind("plate", 0) == 0 && name.find("_force") != std::string::npos)
+      worstForce = std::max(worstForce, std::abs(value + sigma * L) / (sigma * L));
+  const double ratio = sD / sS;
+  std::printf("  damaged layer under a slip plate: mean sigma_yy damaged %.4e Pa, sound %.4e Pa "
+              "(ratio %.4f); D min %.4f; plate force worst %.2e off s L; %.1f s\n",
+              sD, sS, ratio, dmin, worstForce, clock.seconds());
+  EXPECT_GE(dmin, 0.99) << "the imposed damage must stay";
+  EXPECT_LT(sS, -1.5 * sigma) << "the sound half must take the load the damaged half sheds";
+  EXPECT_LT(ratio, 0.1) << "the damaged particles carry the plate's load like sound ones";
+  test::recordValidation({"rigid_plates_damaged_layer", "mean sigma_yy of D = 0.99 tied particles / that of sound ones, slip plate (damage-aware weights)",
+                          ratio, 0.0, std::abs(ratio), "2D, 20 x 20 particles, periodic x, TL, D = 0.99 on half the top plate's tied particles",
+                          clock.seconds(), "< 0.1 (and sound half < -1.5 s)",
+                          "fixed consistent-load weights: the damaged layer inverts (J < 0) at 8.0 ms"});
 }
