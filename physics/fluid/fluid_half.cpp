@@ -436,14 +436,7 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
           if (f.nextFactor) f.nextFactor[i] = moment > 0.5 * D ? D / moment : 1.0;
           Vec<D> ai;
           for (int a = 0; a < D; ++a) ai[a] = ti[a] + g[a];
-          for (const BodyForce& b : bodyForces_) {
-            bool inside = true;
-            for (int a = 0; a < D; ++a)
-              inside = inside && f.x[i * D + a] >= b.lo[static_cast<size_t>(a)] &&
-                       f.x[i * D + a] <= b.hi[static_cast<size_t>(a)];
-            if (inside)
-              for (int a = 0; a < D; ++a) ai[a] += b.acceleration[static_cast<size_t>(a)];
-          }
+          addBodyForces<D>(f.x + i * D, ai);
           for (int a = 0; a < D; ++a) f.acc[i * D + a] += ai[a];
           if (f.drho) f.drho[i] += f.rho[i] * ti[kDiv] + delta * h * ma.soundSpeed * ti[kDiff];
           if (f.corrRate) {  // XSPH, transport velocity, shifting: as the gather loop

@@ -268,12 +268,7 @@ void FluidModule::checkSoundSpeeds(const Simulation& sim) const {
   double g = 0.0;
   for (double c : gravity_) g += c * c;
   g = std::sqrt(g);
-  double fMax = 0.0, length = 0.0;
-  for (const auto& f : bodyForces_) {
-    double f2 = 0.0;
-    for (double c : f.acceleration) f2 += c * c;
-    fMax = std::max(fMax, std::sqrt(f2));
-  }
+  double fMax = largestBodyForce(), length = 0.0;
   for (int a = 0; a < d; ++a) length = std::max(length, sim.domain.length(a));
   for (size_t id = 0; id < mat_.size(); ++id) {
     const MaterialData& md = mat_[id];
@@ -935,14 +930,7 @@ void FluidModule::forcesD(Simulation& sim) {
       }
       if (f.nextFactor) f.nextFactor[i] = moment > 0.5 * D ? D / moment : 1.0;
       Vec<D> ai = aP + aV + aA + g;
-      for (const BodyForce& b : bodyForces_) {
-        bool inside = true;
-        for (int a = 0; a < D; ++a)
-          inside = inside && f.x[i * D + a] >= b.lo[static_cast<size_t>(a)] &&
-                   f.x[i * D + a] <= b.hi[static_cast<size_t>(a)];
-        if (inside)
-          for (int a = 0; a < D; ++a) ai[a] += b.acceleration[static_cast<size_t>(a)];
-      }
+      addBodyForces<D>(f.x + i * D, ai);
       // CSF surface tension, Eq. 1.9 with the colour gradient of Eq. 5.7 (colour jump 2 => 1/2).
       // The normal n_a (colour_gradient: unweighted 5.7, turned by the wetting model near walls)
       // is scaled to the density-weighted magnitude |sum w V dc grad W| (w = 2 rho_a/(rho_a+rho_b):
@@ -1130,17 +1118,13 @@ bool FluidModule::energyAccount(const Simulation& sim, EnergyAccount& account) c
   const std::int32_t* mt = st.data(st.material());
   const MaterialData* md = mat_.data();
   const int nm = static_cast<int>(mat_.size());
-  double g[3] = {0, 0, 0}, gNorm = 0.0, fMax = 0.0;
+  double g[3] = {0, 0, 0}, gNorm = 0.0;
   for (int a = 0; a < d; ++a) {
     g[a] = gravity_[static_cast<size_t>(a)];
     gNorm += g[a] * g[a];
   }
   gNorm = std::sqrt(gNorm);
-  for (const auto& f : bodyForces_) {
-    double f2 = 0.0;
-    for (double c : f.acceleration) f2 += c * c;
-    fMax = std::max(fMax, std::sqrt(f2));
-  }
+  const double fMax = largestBodyForce();
   const double* rho = st.data(st.density());
   double potential = 0.0, internal = 0.0, mass = 0.0, compression = 0.0, lo = 1e300, hi = -1e300;
 #pragma omp parallel for schedule(static) reduction(+ : potential, internal, mass, compression) \

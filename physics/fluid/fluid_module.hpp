@@ -27,6 +27,8 @@
 // extrapolation (extended summation with a hydrostatic wall pressure); forces = continuity
 // (5.1a, or the mass form sum m_b v_ab . grad W with `continuity_form: mass`), pressure gradient (5.2b), harmonic-mean viscosity (5.4), body forces, CSF surface
 // tension (1.9), all in gather form.
+#include <algorithm>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -54,6 +56,27 @@ class FluidModule : public Module {
   struct BodyForce {
     std::vector<double> acceleration, lo, hi;
   };
+  /// Magnitude of the largest body-force acceleration (0 without body forces).
+  double largestBodyForce() const {
+    double fMax = 0.0;
+    for (const BodyForce& b : bodyForces_) {
+      double f2 = 0.0;
+      for (double c : b.acceleration) f2 += c * c;
+      fMax = std::max(fMax, std::sqrt(f2));
+    }
+    return fMax;
+  }
+  /// Adds to `acc` the acceleration of every body force whose box holds position `x` (D values).
+  template <int D, class V>
+  void addBodyForces(const double* x, V& acc) const {
+    for (const BodyForce& b : bodyForces_) {
+      bool inside = true;
+      for (int a = 0; a < D; ++a)
+        inside = inside && x[a] >= b.lo[static_cast<size_t>(a)] && x[a] <= b.hi[static_cast<size_t>(a)];
+      if (inside)
+        for (int a = 0; a < D; ++a) acc[a] += b.acceleration[static_cast<size_t>(a)];
+    }
+  }
 
   std::string name() const override { return "fluid"; }
   std::vector<std::string> materialModels() const override { return {"fluid", "wall"}; }
