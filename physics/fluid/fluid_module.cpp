@@ -131,6 +131,19 @@ void FluidModule::configure(Simulation& sim, const std::vector<const Material*>&
       hydrostaticInit_ = true;
       hydrostaticLevel_ = s.real("hydrostatic_level");
     }
+    // Arithmetic of the fluid-fluid pairs of the symmetric loop (fluid_half.cpp): double, or
+    // float (positions and velocities relative to the row's particle, sums in double;
+    // docs/fluid.md "Pair precision").
+    floatPairs_ = s.choice("pair_precision", "double", {"double", "float"}) == "float";
+    if (floatPairs_) {
+      if (gamma_ > 0.0)
+        s.fail("pair_precision", "float needs the half neighbour list, which surface tension "
+                                 "(surface_tension > 0) does not support; use double");
+      if (xsph_ > 0.0 || shifting_ > 0.0 || transportVelocity_)
+        s.fail("pair_precision", "float is not available with xsph, shifting or "
+                                 "transport_velocity (their pairs take the double loop); use double");
+      pairPrecisionWhere_ = s.where("pair_precision");
+    }
     s.finish();
   }
 
@@ -823,6 +836,9 @@ void FluidModule::forcesD(Simulation& sim) {
   if (nl.half) {
     forceLoopHalf<D>(sim, f, uShift, wallRho);  // fluid_half.cpp
   } else {
+    if (floatPairs_)
+      throw InputError(pairPrecisionWhere_ + ": float needs the half neighbour list "
+                       "(neighbour_list: half or auto); this run uses the full list");
     W.withFixedType<D>([&](const auto K) {
 #pragma omp parallel for schedule(dynamic, 256)
     for (Index i = 0; i < n; ++i) {

@@ -102,6 +102,8 @@ class FluidModule : public Module {
   /// Every loop has a symmetric form for a half list (fluid_half.cpp) except the surface
   /// tension's (colour gradient, curvature, CSF), which needs the full list.
   bool supportsHalfNeighbourList() const override { return gamma_ == 0.0; }
+  /// `pair_precision: float`: the fluid-fluid pairs of the symmetric force loop in single precision.
+  bool floatPairs() const { return floatPairs_; }
   /// Blocks and spill buffers of the symmetric loops (their allocations, for tests).
   const PairScatter& pairScatter() const { return scatter_; }
   /// The symmetric loops' per-particle sums and spill buffers (half list only; fluid_half.cpp).
@@ -206,6 +208,8 @@ class FluidModule : public Module {
   double shifting_ = 0.0;           // coefficient A of the particle shifting velocity (0: off)
   bool pressureReference_ = false;  // subtract the background pressure in the pressure force
   bool transportVelocity_ = false;  // background pressure in the advection (Adami et al. 2013)
+  bool floatPairs_ = false;         // pair_precision: float (fluid-fluid block of fluid_half.cpp)
+  std::string pairPrecisionWhere_;  // where the scene set it (for the full-list error)
   double backgroundPressure_ = 0.0; // the run's background pressure (smallest of the fluids')
   double densityBound_ = 0.03;
   double cflAcoustic_ = 0.25, cflViscous_ = 0.125, cflForce_ = 0.25, cflSurface_ = 0.25;

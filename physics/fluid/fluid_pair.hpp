@@ -14,16 +14,20 @@
 // The continuity term is libcore's continuityTerm (Eq. 5.1a or the mass form).
 #include "libcore/artificial_viscosity.hpp"
 #include "libcore/fluid_pair_terms.hpp"
+#include "libcore/kernel.hpp"
 #include "libcore/types.hpp"
 
 namespace poresph {
 
-/// One particle of a fluid-fluid pair as its terms see it.
-struct FluidPairParticle {
-  double m = 0.0, rho = 0.0, V = 0.0;  ///< mass, density, volume m / rho
-  double p = 0.0, pRho2 = 0.0;         ///< pressure and (p - p_ref) / rho^2 (Eq. 5.2b)
-  double soundSpeed = 0.0;             ///< for the artificial viscosity
+/// One particle of a fluid-fluid pair as its terms see it (Real: double, or float for the
+/// single-precision pair arithmetic of `pair_precision: float`).
+template <class Real>
+struct FluidPairParticleT {
+  Real m = 0, rho = 0, V = 0;  ///< mass, density, volume m / rho
+  Real p = 0, pRho2 = 0;       ///< pressure and (p - p_ref) / rho^2 (Eq. 5.2b)
+  Real soundSpeed = 0;         ///< for the artificial viscosity
 };
+using FluidPairParticle = FluidPairParticleT<double>;
 
 struct FluidFluidOptions {
   bool huAdams = false;    ///< Hu & Adams pressure form instead of Eq. 5.2b
@@ -38,38 +42,105 @@ struct FluidFluidAccel {
   Vec<D> pressure = Vec<D>::Zero(), viscous = Vec<D>::Zero(), artificial = Vec<D>::Zero();
 };
 
-/// The pair terms of a (and of b when kBoth): r = x_a - x_b, gradW = F r, vab = v_a - v_b,
-/// muBar the mean viscosity (Eq. 5.4), fab the pair's lattice normalisation factor.
+// Branch-free forms for the vectorised block of fluid_half.cpp. Every branch is computed and
+// blended with 0/1 weights (x * 1 + y * 0 = x exactly for finite y) rather than selected, and
+// the comparisons are the quiet ones (__builtin_isless): with GCC's default -ftrapping-math any
+// floating-point operation that only one side of a select uses is sunk into a conditional block,
+// which if-conversion refuses (it may trap), and the loop does not vectorise. GCC 12 at -O3
+// then vectorises the block in float for SSE2 (4 lanes) and in float and double for AVX2 (8 / 4
+// lanes, the AVX2 copy of fluid_half.cpp); SSE2 double stays scalar (no conversion of a 64-bit
+// mask to double: "patt = c ? 1 : 0 not supported").
+
+/// Monaghan's Pi_ab (Eqs. 2.64-2.65, beta = 0) from vr = v_ab . r_ab and r2 = |r_ab|^2. The
+/// expression of libcore's artificialViscosityPi, equal to it bit for bit in double
+/// (tests/unit/test_fluid_pair_precision.cpp); kept here so that the shared header, which most of
+/// the project includes, need not change.
+template <class Real>
+inline Real artificialViscosityPiSelect(Real vr, Real r2, Real h, Real alpha, Real ca, Real cb,
+                                        Real rhoa, Real rhob) {
+  const Real nu = -h * vr / (r2 + Real(0.01) * h * h);                            // 2.65
+  const Real pi = (alpha * Real(0.5) * (ca + cb) * nu) / (Real(0.5) * (rhoa + rhob));  // 2.64
+  return pi * static_cast<Real>(__builtin_isless(vr, Real(0)));
+}
+
+/// (1/q) dw/dq of the kernel shape for the vectorised block (branches blended):
+/// KernelShape<K, D>::dOverQ (libcore/kernel.hpp, Eq. 2.11 for the cubic)
+/// written branch-free for the cubic spline and Wendland C2, equal to it bit for bit in double
+/// (tests/unit/test_fluid_pair_precision.cpp); the other kernels call KernelShape itself.
+template <KernelType K, int D, class Real>
+inline Real kernelDOverQSelect(Real q, double qMax) {
+  if constexpr (K == KernelType::CubicSpline) {
+    const Real t = Real(2) - q;
+    const Real inner = Real(-2) + Real(1.5) * q;
+    const Real qSafe = __builtin_isgreater(q, Real(0.5)) ? q : Real(0.5);  // the outer ring is used for q >= 1 only
+    const Real outer = Real(-0.5) * t * t / qSafe;
+    const Real wIn = static_cast<Real>(__builtin_isless(q, Real(1))), wOut = static_cast<Real>(__builtin_isless(q, Real(2))) - wIn;
+    return wIn * inner + wOut * outer;
+  } else if constexpr (K == KernelType::WendlandC2) {
+    const Real t = Real(1) - Real(0.5) * q;
+    const Real v = D == 1 ? Real(-3) * t * t : Real(-5) * t * t * t;
+    return v * static_cast<Real>(__builtin_isless(q, Real(2)));
+  } else {
+    return static_cast<Real>(KernelShape<K, D>::dOverQ(static_cast<double>(q), qMax));
+  }
+}
+
+/// The coefficients of a fluid-fluid pair's accelerations: side a gets pressureA grad W +
+/// viscousA v_ab + artificialA grad W, side b pressureB grad W + viscousB v_ab + artificialB grad W
+/// (grad W = grad_a W_ab = F r_ab). The one implementation of the terms listed at the top of this
+/// file, branch-free (selects) so that the block loop of fluid_half.cpp vectorises, for Real =
+/// double or float; fluidFluidPair below (the gather loop and the scalar half loop) calls it with
+/// double. vr = v_ab . r_ab, F the kernel's F(|r_ab|), r2 = |r_ab|^2.
+template <class Real>
+struct FluidFluidCoefficients {
+  Real pressureA, viscousA, artificialA, pressureB, viscousB, artificialB;
+};
+template <class Real, bool kHuAdams>
+inline FluidFluidCoefficients<Real> fluidFluidCoefficients(
+    Real F, Real vr, Real r2, const FluidPairParticleT<Real>& a, const FluidPairParticleT<Real>& b,
+    Real muBar, Real fab, Real pOff, Real alpha, Real h) {
+  FluidFluidCoefficients<Real> c;
+  if constexpr (kHuAdams) {
+    const Real pt = (b.rho * (a.p - pOff) + a.rho * (b.p - pOff)) / (a.rho + b.rho);
+    const Real sq = a.V * a.V + b.V * b.V;
+    const Real vvA = sq / a.m, vvB = sq / b.m;
+    c.pressureA = -(vvA * pt);
+    c.viscousA = fab * vvA * Real(0.5) * muBar * F;
+    c.pressureB = vvB * pt;
+    c.viscousB = -(fab * vvB * Real(0.5) * muBar * F);
+  } else {
+    const Real ps = a.pRho2 + b.pRho2;
+    c.pressureA = -(b.m * ps);  // Eq. 5.2b
+    c.pressureB = a.m * ps;
+    c.viscousA = fab * muBar * b.V * F / a.rho;  // Eq. 5.4 (0 for an inviscid pair)
+    c.viscousB = -(fab * muBar * a.V * F / b.rho);
+  }
+  // Eq. 2.64 (alpha = 0: Pi = 0)
+  const Real Pi = artificialViscosityPiSelect<Real>(vr, r2, h, alpha, a.soundSpeed, b.soundSpeed,
+                                                    a.rho, b.rho);
+  c.artificialA = -(b.m * Pi);
+  c.artificialB = a.m * Pi;
+  return c;
+}
+
+/// The pair terms of a (and of b when kBoth) as vectors: r = x_a - x_b, gradW = F r, vab = v_a -
+/// v_b, muBar the mean viscosity (Eq. 5.4), fab the pair's lattice normalisation factor.
 template <int D, bool kBoth>
 inline void fluidFluidPair(const Vec<D>& r, const Vec<D>& gradW, double F, const Vec<D>& vab,
                            const FluidPairParticle& a, const FluidPairParticle& b, double muBar,
                            double fab, const FluidFluidOptions& o, FluidFluidAccel<D>& ta,
                            FluidFluidAccel<D>& tb) {
-  if (o.huAdams) {
-    const double pt = (b.rho * (a.p - o.pOff) + a.rho * (b.p - o.pOff)) / (a.rho + b.rho);
-    const double sq = a.V * a.V + b.V * b.V;
-    const double vvA = sq / a.m;
-    ta.pressure = -(vvA * pt) * gradW;
-    ta.viscous = (fab * vvA * 0.5 * muBar * F) * vab;
-    if (kBoth) {
-      const double vvB = sq / b.m;
-      tb.pressure = (vvB * pt) * gradW;
-      tb.viscous = -(fab * vvB * 0.5 * muBar * F) * vab;
-    }
-  } else {
-    const double ps = a.pRho2 + b.pRho2;
-    ta.pressure = -(b.m * ps) * gradW;  // Eq. 5.2b
-    if (kBoth) tb.pressure = (a.m * ps) * gradW;
-    if (muBar != 0.0) {  // Eq. 5.4 (nothing for an inviscid pair)
-      ta.viscous = (fab * muBar * b.V * F / a.rho) * vab;
-      if (kBoth) tb.viscous = -(fab * muBar * a.V * F / b.rho) * vab;
-    }
-  }
-  if (o.alpha > 0.0) {  // Eq. 2.64
-    const double Pi = artificialViscosityPi<D>(vab, r, o.h, o.alpha, 0.0, a.soundSpeed,
-                                               b.soundSpeed, a.rho, b.rho);
-    ta.artificial = -(b.m * Pi) * gradW;
-    if (kBoth) tb.artificial = (a.m * Pi) * gradW;
+  const double vr = vab.dot(r), r2 = r.squaredNorm();
+  const FluidFluidCoefficients<double> c =
+      o.huAdams ? fluidFluidCoefficients<double, true>(F, vr, r2, a, b, muBar, fab, o.pOff, o.alpha, o.h)
+                : fluidFluidCoefficients<double, false>(F, vr, r2, a, b, muBar, fab, o.pOff, o.alpha, o.h);
+  ta.pressure = c.pressureA * gradW;
+  ta.viscous = c.viscousA * vab;
+  ta.artificial = c.artificialA * gradW;
+  if (kBoth) {
+    tb.pressure = c.pressureB * gradW;
+    tb.viscous = c.viscousB * vab;
+    tb.artificial = c.artificialB * gradW;
   }
 }
 
