@@ -17,6 +17,8 @@
 #   DSPH_TMAX=0.004  physical time of a DSPH run (~1e-4 s per step: 0.004 s ~ 40 steps)
 #   SKIN=0.3        neighbour_skin (units of dx) written into the PoreSPH scenes (default: the scene's)
 #   NLIST="full half"  neighbour_list values run one after the other (default: the scene's, auto)
+#   PREC="double float"  fluid pair_precision values run one after the other (half list only;
+#                    default: the scene's, double); labels poresph-<list>-<precision>
 #   SHORT=1          also run each program for ~5 steps (PoreSPH max_steps 5, DSPH tmax 0.0005)
 #                    and print the CPU time per step of the difference (set-up and output cancel:
 #                    the figure to compare on a loaded machine, with THREADS=1)
@@ -41,7 +43,7 @@ cpu_of() {  # command...: prints user + sys seconds
   rm -f "$f"
 }
 
-run_poresph() {  # case threads rep [neighbour_list]
+run_poresph() {  # case threads rep [neighbour_list] [pair_precision]
   local scene tmp out log np nf load0 load1 cpu label=poresph
   scene=$(scene_of "$1")
   tmp=$(mktemp -d)
@@ -52,6 +54,10 @@ run_poresph() {  # case threads rep [neighbour_list]
   if [ -n "${4:-}" ]; then
     sed -i -e '/^neighbour_list:/d' -e "s/^kernel:.*/&\nneighbour_list: $4/" "$tmp/scene.yaml"
     label="poresph-$4"
+  fi
+  if [ -n "${5:-}" ]; then
+    sed -i -e '/^  pair_precision:/d' -e "s/^fluid:.*/&\n  pair_precision: $5/" "$tmp/scene.yaml"
+    label="$label-$5"
   fi
   local c5 cN
   if [ -n "${SHORT:-}" ]; then
@@ -121,7 +127,9 @@ run_dsph() {  # case threads rep
 for rep in $(seq 1 "$REPS"); do
   for t in $THREADS; do
     for c in $CASES; do
-      if [ -n "${NLIST:-}" ]; then
+      if [ -n "${PREC:-}" ]; then
+        for pr in $PREC; do run_poresph "$c" "$t" "$rep" "${NLIST:-half}" "$pr"; done
+      elif [ -n "${NLIST:-}" ]; then
         for nl in $NLIST; do run_poresph "$c" "$t" "$rep" "$nl"; done
       else
         run_poresph "$c" "$t" "$rep"
