@@ -12,7 +12,7 @@
 // phi = 4 pi a^3 / (3 L^3), U the superficial velocity of the fluid through the array (volume
 // flux per unit area; Zick & Homsy 1982, Table 2, K(0.027) = 2.008: the series gives 2.0077).
 // Settling (zero volume flux: equal densities and zero total momentum) maps onto the fixed array
-// by a Galilean change of frame, which gives U = V_b - <u>, <u> the volume mean of the velocity
+// by a Galilean change of frame, which gives U = V_b - u_cell, u_cell the volume mean of the velocity
 // over the whole cell (body included); the 2D test's V_b - (mean fluid velocity) equals
 // U / (1 - phi), the interstitial velocity. Both are reported; the test asserts U.
 // F = M_b g (the body's weight), a the radius of the body's particle volume (N dx^3 = 4/3 pi a^3).
@@ -41,7 +41,7 @@ inline double cubicArrayInverseK(double phi) {
 }
 
 struct Stokes3dResult {
-  double U = 0.0;        ///< V_b - <u> (superficial velocity, the reference's U), m/s
+  double U = 0.0;        ///< V_b - u_cell (superficial velocity, the reference's U), m/s
   double Uint = 0.0;     ///< V_b - mean fluid velocity (interstitial, the 2D test's measure)
   double Uexact = 0.0;   ///< M_b g / (6 pi mu a K)
   double err = 0.0;      ///< U / Uexact - 1
@@ -149,7 +149,7 @@ inline Stokes3dResult runStokes3d(int perRadius, double cell, double endTime) {
   out.steps = static_cast<long long>(sim.step);
   out.seconds = clock.seconds();
   std::printf("  a/dx %d (a_eff %.3f dx, %.0f particles), cell %.0f a (%lld particles), phi = %.4f, "
-              "K = %.4f, t = %.3f s (%lld steps): U = V_b - <u> = %.5e m/s (at 3/4: %.5e), "
+              "K = %.4f, t = %.3f s (%lld steps): U = V_b - u_cell = %.5e m/s (at 3/4: %.5e), "
               "reference %.5e: %+.2f %%; V_b - V_f = %.5e: %+.2f %%; transverse %.1e; Re %.1e; %.1f s\n",
               perRadius, out.aEff / dx, Nb, cell, out.particles, out.phi, out.K, sim.time, out.steps,
               out.U, out.Ulate, out.Uexact, 100 * out.err, out.Uint, 100 * out.errInt, out.transverse,

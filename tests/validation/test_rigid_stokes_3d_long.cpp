@@ -17,7 +17,7 @@ void checkAndRecord(const test::Stokes3dResult& r, const char* name, const char*
   EXPECT_LT(std::abs(r.Ulate / r.U - 1.0), 0.01) << "not steady";
   EXPECT_LT(r.transverse, 1e-6) << "the sphere left the axis of its weight";
   EXPECT_LT(r.Re, 0.01) << "not Stokes flow";
-  test::recordValidation({name, "terminal velocity of a sphere in a periodic cubic array, V_b - <u> (m/s)",
+  test::recordValidation({name, "terminal velocity of a sphere in a periodic cubic array, V_b - u_cell (m/s)",
                           r.U, r.Uexact, std::abs(r.err), resolution, r.seconds, "< 10 %",
                           "Hasimoto 1959 / Sangani & Acrivos 1982 simple cubic array, Stokes flow"});
 }
