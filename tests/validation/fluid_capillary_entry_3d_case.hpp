@@ -65,11 +65,12 @@ struct Entry3D {
   double threshold() const { return entryPressure() / (rho * Lx()); }
 
   /// ratio: f / f* (at 90 degrees: rho f Lx / (2 gamma / w)); extra: fluid keys appended to the section (", key: value").
-  Entry3D(double thetaIn, double ratioIn, const std::string& extra) : thetaDeg(thetaIn), ratio(ratioIn) {
+  /// nwIn: tube side in dx (the cell is nw + 4 across, the plate 2 nw long).
+  Entry3D(double thetaIn, double ratioIn, const std::string& extra, int nwIn = 6) : thetaDeg(thetaIn), ratio(ratioIn) {
     mu = env("ENTRY3D_MU", mu);
     c = env("ENTRY3D_C", c);
     pb = env("ENTRY3D_PB", pb);
-    nw = static_cast<int>(env("ENTRY3D_NW", nw));
+    nw = static_cast<int>(env("ENTRY3D_NW", nwIn));
     nH = static_cast<int>(env("ENTRY3D_NH", nw + 4));
     nLs = static_cast<int>(env("ENTRY3D_NLS", 2 * nw));
     nGas = static_cast<int>(env("ENTRY3D_NGAS", nGas));
@@ -158,9 +159,9 @@ struct EntryResult {
 
 /// Runs f = ratio f* to tEnd and reads the front at 8 instants (printed).
 inline EntryResult runEntry3D(double thetaDeg, double ratio, double tEnd, const std::string& extra,
-                              const std::string& dumpPath = "") {
+                              const std::string& dumpPath = "", int nw = 6) {
   test::Stopwatch clock;
-  Entry3D e(thetaDeg, ratio, extra);
+  Entry3D e(thetaDeg, ratio, extra, nw);
   EntryResult r;
   for (int k = 1; k <= 8; ++k) {
     e.stepper.runTo(e.sim, tEnd * k / 8);
