@@ -549,6 +549,8 @@ void RigidModule::initialisePlateBonds(Simulation& sim) {
         if (slot[i * S + q] == static_cast<int>(p)) weight[i * S + q] = c / P.loadArea;
     P.loadArea = std::abs(P.loadArea);
   }
+  platePartial_.assign(static_cast<size_t>(std::max(1, omp_get_max_threads())) * plateBonds_.size() * 3,
+                       0.0);
 }
 
 template <int D>
@@ -577,45 +579,76 @@ void RigidModule::plateBondDeltas(const Simulation& sim) {
   // compression, which 1 - D ignores; where most of a face is damaged the renormalisation puts
   // the plate's load on its few sound particles (1 / sum c_b (1 - D_b) times their share).
   const double* dmg = st.has("damage") ? st.data(st.real("damage")) : nullptr;
-  for (PlateBond& P : plateBonds_) {
-    P.degraded = false;
-    P.sound = 0.0;
-    P.damagedShareFixed = 0.0;
-    P.damagedShare = 0.0;
-  }
-  for (Index i = 0; i < n; ++i) {
-    if (slot[i * S] < 0) continue;
-    const double Da = dmg ? std::clamp(dmg[i], 0.0, 1.0) : 0.0;
-    for (int q = 0; q < S && slot[i * S + q] >= 0; ++q) {
-      PlateBond& P = plateBonds_[static_cast<size_t>(slot[i * S + q])];
-      if (Da > 0.0) P.degraded = true;
-      P.sound += weight[i * S + q] * plateSoundFactor(Da);
-      if (Da > 0.5) P.damagedShareFixed += weight[i * S + q];
-    }
-  }
-  for (PlateBond& P : plateBonds_)
-    if (!P.degraded || !(P.sound > 1e-12)) {
-      P.degraded = false;
-      P.sound = 1.0;
-    }
-  std::vector<double> mean(np, 0.0);
-  for (Index i = 0; i < n; ++i) {
-    if (slot[i * S] < 0) continue;
-    Vec<D> u;
-    for (int a = 0; a < D; ++a) u[a] = wrapDelta(x[i * D + a] - origin[i * D + a], sim.domain, a);
-    for (int q = 0; q < S && slot[i * S + q] >= 0; ++q) {
-      PlateBond& P = plateBonds_[static_cast<size_t>(slot[i * S + q])];
-      double un = 0.0;
-      for (int a = 0; a < D; ++a) un += P.n[a] * u[a];
-      const double c = plateWeightOf(P, weight[i * S + q], dmg ? dmg[i] : 0.0);
-      mean[static_cast<size_t>(slot[i * S + q])] += c * un;
-      if (dmg && dmg[i] > 0.5) P.damagedShare += c;
+  // Two parallel passes over the particles (the tied ones carry slot >= 0), each thread summing
+  // into its own row of platePartial_ (sized at initialise: no allocation in the time loop);
+  // rows summed serially per plate afterwards. Pass 1: sum c_b (1 - D_b), whether any tied
+  // particle is damaged, the fixed-weight share of D > 0.5 particles. Pass 2 (needs pass 1's
+  // sums for the weights): the weighted mean normal displacement and the damaged share.
+  constexpr size_t K = 3;  // partial sums per plate and pass
+  const int threads = std::max(1, omp_get_max_threads());
+  if (platePartial_.size() < static_cast<size_t>(threads) * np * K)  // more threads than at set-up
+    platePartial_.assign(static_cast<size_t>(threads) * np * K, 0.0);
+  double* part = platePartial_.data();
+  std::fill(platePartial_.begin(), platePartial_.end(), 0.0);
+#pragma omp parallel num_threads(threads)
+  {
+    double* mine = part + static_cast<size_t>(omp_get_thread_num()) * np * K;
+#pragma omp for schedule(static)
+    for (Index i = 0; i < n; ++i) {
+      if (slot[i * S] < 0) continue;
+      const double Da = dmg ? std::clamp(dmg[i], 0.0, 1.0) : 0.0;
+      for (int q = 0; q < S && slot[i * S + q] >= 0; ++q) {
+        double* s = mine + static_cast<size_t>(slot[i * S + q]) * K;
+        if (Da > 0.0) s[0] = 1.0;
+        s[1] += weight[i * S + q] * plateSoundFactor(Da);
+        if (Da > 0.5) s[2] += weight[i * S + q];
+      }
     }
   }
   for (size_t p = 0; p < np; ++p) {
     PlateBond& P = plateBonds_[p];
+    double degraded = 0.0, sound = 0.0, fixedShare = 0.0;
+    for (int t = 0; t < threads; ++t) {
+      const double* s = part + (static_cast<size_t>(t) * np + p) * K;
+      degraded = std::max(degraded, s[0]);
+      sound += s[1];
+      fixedShare += s[2];
+    }
+    P.degraded = degraded > 0.0 && sound > 1e-12;
+    P.sound = P.degraded ? sound : 1.0;
+    P.damagedShareFixed = fixedShare;
+  }
+  std::fill(platePartial_.begin(), platePartial_.end(), 0.0);
+#pragma omp parallel num_threads(threads)
+  {
+    double* mine = part + static_cast<size_t>(omp_get_thread_num()) * np * K;
+#pragma omp for schedule(static)
+    for (Index i = 0; i < n; ++i) {
+      if (slot[i * S] < 0) continue;
+      Vec<D> u;
+      for (int a = 0; a < D; ++a) u[a] = wrapDelta(x[i * D + a] - origin[i * D + a], sim.domain, a);
+      for (int q = 0; q < S && slot[i * S + q] >= 0; ++q) {
+        const PlateBond& P = plateBonds_[static_cast<size_t>(slot[i * S + q])];
+        double* s = mine + static_cast<size_t>(slot[i * S + q]) * K;
+        double un = 0.0;
+        for (int a = 0; a < D; ++a) un += P.n[a] * u[a];
+        const double c = plateWeightOf(P, weight[i * S + q], dmg ? dmg[i] : 0.0);
+        s[0] += c * un;
+        if (dmg && dmg[i] > 0.5) s[1] += c;
+      }
+    }
+  }
+  for (size_t p = 0; p < np; ++p) {
+    PlateBond& P = plateBonds_[p];
+    double mean = 0.0, share = 0.0;
+    for (int t = 0; t < threads; ++t) {
+      const double* s = part + (static_cast<size_t>(t) * np + p) * K;
+      mean += s[0];
+      share += s[1];
+    }
+    P.damagedShare = share;
     const RigidBody& B = bodies_[static_cast<size_t>(P.body)];
-    P.delta = P.n.dot(place_[static_cast<size_t>(P.body)] - B.X0) - mean[p];
+    P.delta = P.n.dot(place_[static_cast<size_t>(P.body)] - B.X0) - mean;
   }
 }
 

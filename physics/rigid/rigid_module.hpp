@@ -211,6 +211,7 @@ class RigidModule : public Module {
   // plateBonds_, -1: none) with their weight c_a, and the particle's initial position.
   std::vector<PlateBond> plateBonds_;
   int plateSlots_ = 0;
+  std::vector<double> platePartial_;  // per-thread partial sums of plateBondDeltas (3 per plate)
   IntField plateBond_;
   RealField plateWeight_, plateOrigin_;
   RealField pressure_, wallVelocity_, viscousFactor_, densityRate_;
