@@ -105,21 +105,10 @@ struct KernelShape {
     }
   }
   static double dOverQ(double q, double qMax) {
-    if constexpr (K == KernelType::CubicSpline) {
-      (void)qMax;
-      if (q < 1.0) return -2.0 + 1.5 * q;
-      if (q < 2.0) { const double t = 2.0 - q; return -0.5 * t * t / q; }
-      return 0.0;
+    if constexpr (K == KernelType::CubicSpline || K == KernelType::WendlandC2) {
+      return dOverQBlend<double>(q, qMax);
     } else if constexpr (K == KernelType::Gaussian) {
       return q < qMax ? -2.0 * std::exp(-q * q) : 0.0;
-    } else if constexpr (K == KernelType::WendlandC2) {
-      (void)qMax;
-      if (q < 2.0) {
-        const double t = 1.0 - 0.5 * q;
-        if (D == 1) return -3.0 * t * t;
-        return -5.0 * t * t * t;
-      }
-      return 0.0;
     } else {
       (void)qMax;
       if (q >= 3.0) return 0.0;
@@ -129,6 +118,33 @@ struct KernelShape {
       if (q < 2.0) d += 30.0 * b * b * b * b;
       if (q < 1.0) d -= 75.0 * c * c * c * c;
       return d / q;
+    }
+  }
+  /// (1/q) dw/dq for Real = double or float, the one expression of the cubic spline (Eq. 2.11)
+  /// and Wendland C2 derivative that every caller uses (dOverQ above is this in double). Branch-
+  /// free: both rings are computed and blended with 0/1 weights (x * 1 + y * 0 = x exactly for
+  /// finite y) and the comparisons are the quiet ones (__builtin_isless), so that a loop over
+  /// pairs calling it vectorises under GCC's default -ftrapping-math (the fluid-fluid block of
+  /// physics/fluid/fluid_half.cpp). The Gaussian and quintic kernels go through dOverQ (scalar).
+  template <class Real>
+  static Real dOverQBlend(Real q, double qMax) {
+    if constexpr (K == KernelType::CubicSpline) {
+      (void)qMax;
+      const Real t = Real(2) - q;
+      const Real inner = Real(-2) + Real(1.5) * q;
+      // the outer ring is used for q >= 1 only: a floor keeps its value finite for q -> 0
+      const Real qSafe = __builtin_isgreater(q, Real(0.5)) ? q : Real(0.5);
+      const Real outer = Real(-0.5) * t * t / qSafe;
+      const Real wIn = static_cast<Real>(__builtin_isless(q, Real(1)));
+      const Real wOut = static_cast<Real>(__builtin_isless(q, Real(2))) - wIn;
+      return wIn * inner + wOut * outer;
+    } else if constexpr (K == KernelType::WendlandC2) {
+      (void)qMax;
+      const Real t = Real(1) - Real(0.5) * q;
+      const Real v = D == 1 ? Real(-3) * t * t : Real(-5) * t * t * t;
+      return v * static_cast<Real>(__builtin_isless(q, Real(2)));
+    } else {
+      return static_cast<Real>(dOverQ(static_cast<double>(q), qMax));
     }
   }
 };

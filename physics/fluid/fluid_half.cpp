@@ -105,7 +105,7 @@ PORESPH_BLOCK_CLONES void fluidFluidBlockTerms(FluidFluidBlock<Real, D>& b, cons
       r2 += b.r[a][q] * b.r[a][q];
       vr += b.vab[a][q] * b.r[a][q];
     }
-    const Real F = kScale * kernelDOverQSelect<K, D, Real>(b.dist[q] * invH, qMax);
+    const Real F = kScale * KernelShape<K, D>::template dOverQBlend<Real>(b.dist[q] * invH, qMax);
     const Real vg = F * vr;  // v_ab . grad W
     const Real muB = b.mu[q], muSum = muA + muB;
     // Eq. 5.4's mean: harmonic 4 mu_a mu_b / (mu_a + mu_b) or the sum; 0 for two inviscid fluids

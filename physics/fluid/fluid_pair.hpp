@@ -42,48 +42,11 @@ struct FluidFluidAccel {
   Vec<D> pressure = Vec<D>::Zero(), viscous = Vec<D>::Zero(), artificial = Vec<D>::Zero();
 };
 
-// Branch-free forms for the vectorised block of fluid_half.cpp. Every branch is computed and
-// blended with 0/1 weights (x * 1 + y * 0 = x exactly for finite y) rather than selected, and
-// the comparisons are the quiet ones (__builtin_isless): with GCC's default -ftrapping-math any
-// floating-point operation that only one side of a select uses is sunk into a conditional block,
-// which if-conversion refuses (it may trap), and the loop does not vectorise. GCC 12 at -O3
-// then vectorises the block in float for SSE2 (4 lanes) and in float and double for AVX2 (8 / 4
-// lanes, the AVX2 copy of fluid_half.cpp); SSE2 double stays scalar (no conversion of a 64-bit
-// mask to double: "patt = c ? 1 : 0 not supported").
-
-/// Monaghan's Pi_ab (Eqs. 2.64-2.65, beta = 0) from vr = v_ab . r_ab and r2 = |r_ab|^2. The
-/// expression of libcore's artificialViscosityPi, equal to it bit for bit in double
-/// (tests/unit/test_fluid_pair_precision.cpp); kept here so that the shared header, which most of
-/// the project includes, need not change.
-template <class Real>
-inline Real artificialViscosityPiSelect(Real vr, Real r2, Real h, Real alpha, Real ca, Real cb,
-                                        Real rhoa, Real rhob) {
-  const Real nu = -h * vr / (r2 + Real(0.01) * h * h);                            // 2.65
-  const Real pi = (alpha * Real(0.5) * (ca + cb) * nu) / (Real(0.5) * (rhoa + rhob));  // 2.64
-  return pi * static_cast<Real>(__builtin_isless(vr, Real(0)));
-}
-
-/// (1/q) dw/dq of the kernel shape for the vectorised block (branches blended):
-/// KernelShape<K, D>::dOverQ (libcore/kernel.hpp, Eq. 2.11 for the cubic)
-/// written branch-free for the cubic spline and Wendland C2, equal to it bit for bit in double
-/// (tests/unit/test_fluid_pair_precision.cpp); the other kernels call KernelShape itself.
-template <KernelType K, int D, class Real>
-inline Real kernelDOverQSelect(Real q, double qMax) {
-  if constexpr (K == KernelType::CubicSpline) {
-    const Real t = Real(2) - q;
-    const Real inner = Real(-2) + Real(1.5) * q;
-    const Real qSafe = __builtin_isgreater(q, Real(0.5)) ? q : Real(0.5);  // the outer ring is used for q >= 1 only
-    const Real outer = Real(-0.5) * t * t / qSafe;
-    const Real wIn = static_cast<Real>(__builtin_isless(q, Real(1))), wOut = static_cast<Real>(__builtin_isless(q, Real(2))) - wIn;
-    return wIn * inner + wOut * outer;
-  } else if constexpr (K == KernelType::WendlandC2) {
-    const Real t = Real(1) - Real(0.5) * q;
-    const Real v = D == 1 ? Real(-3) * t * t : Real(-5) * t * t * t;
-    return v * static_cast<Real>(__builtin_isless(q, Real(2)));
-  } else {
-    return static_cast<Real>(KernelShape<K, D>::dOverQ(static_cast<double>(q), qMax));
-  }
-}
+// The kernel derivative and the artificial viscosity of the vectorised block of fluid_half.cpp
+// are libcore's branch-free forms (KernelShape::dOverQBlend, artificialViscosityPiBlend), the
+// same expressions every other caller uses; GCC 12 at -O3 vectorises the block in float for SSE2
+// (4 lanes) and in float and double for AVX2 (8 / 4 lanes, the AVX2 copy of fluid_half.cpp);
+// SSE2 double stays scalar (no conversion of a 64-bit mask to double).
 
 /// The coefficients of a fluid-fluid pair's accelerations: side a gets pressureA grad W +
 /// viscousA v_ab + artificialA grad W, side b pressureB grad W + viscousB v_ab + artificialB grad W
@@ -116,8 +79,8 @@ inline FluidFluidCoefficients<Real> fluidFluidCoefficients(
     c.viscousB = -(fab * muBar * a.V * F / b.rho);
   }
   // Eq. 2.64 (alpha = 0: Pi = 0)
-  const Real Pi = artificialViscosityPiSelect<Real>(vr, r2, h, alpha, a.soundSpeed, b.soundSpeed,
-                                                    a.rho, b.rho);
+  const Real Pi = artificialViscosityPiBlend<Real>(vr, r2, h, alpha, Real(0), a.soundSpeed,
+                                                   b.soundSpeed, a.rho, b.rho);
   c.artificialA = -(b.m * Pi);
   c.artificialB = a.m * Pi;
   return c;

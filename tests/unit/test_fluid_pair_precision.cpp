@@ -1,8 +1,10 @@
 // Unit tests of the fluid-fluid block of the symmetric force loop and of `fluid: {pair_precision:
 // float}` (issue 17; physics/fluid/fluid_half.cpp, physics/fluid/fluid_pair.hpp, docs/fluid.md
 // "Pair precision"):
-//  - the branch-free kernel F and artificial viscosity of the block equal libcore's KernelShape
-//    and artificialViscosityPi bit for bit in double (cubic spline and Wendland C2, 2D and 3D);
+//  - libcore's branch-free kernel derivative and artificial viscosity (the one expression the
+//    block and every other caller use) equal the piecewise closed forms (Eq. 2.11 / Wendland C2,
+//    Eqs. 2.64-2.65 with their branches, written out here) bit for bit in double, and their float
+//    instances agree to float round-off (cubic spline and Wendland C2, 1D to 3D);
 //  - one rate evaluation of the same state with the double block on the half list equals the
 //    full list's gather to 1e-12 of the largest value (2D dam break with viscosity, artificial
 //    viscosity, density diffusion; Hu-Adams with the mass continuity form and arithmetic mean);
@@ -43,15 +45,36 @@ fsys::path testDir() {
   return dir;
 }
 
+// The piecewise closed forms of (1/q) dw/dq with their branches (Eq. 2.11 for the cubic spline;
+// Wendland C2, 1D and 2D/3D), as libcore wrote them before the blend.
+template <KernelType K, int D>
+double dOverQPiecewise(double q) {
+  if constexpr (K == KernelType::CubicSpline) {
+    if (q < 1.0) return -2.0 + 1.5 * q;
+    if (q < 2.0) { const double t = 2.0 - q; return -0.5 * t * t / q; }
+    return 0.0;
+  } else {
+    if (q >= 2.0) return 0.0;
+    const double t = 1.0 - 0.5 * q;
+    return D == 1 ? -3.0 * t * t : -5.0 * t * t * t;
+  }
+}
+
 template <KernelType K, int D>
 int kernelMismatches() {
   int bad = 0;
+  double worstFloat = 0.0;
   for (int k = 0; k <= 2600; ++k) {
     const double q = k * 1e-3 + (k % 7) * 1.3e-5;
-    const double a = KernelShape<K, D>::dOverQ(q, 2.0);
-    const double b = kernelDOverQSelect<K, D, double>(q, 2.0);
-    if (!(a == b)) ++bad;
+    const double a = dOverQPiecewise<K, D>(q);
+    const double b = KernelShape<K, D>::dOverQ(q, 2.0);
+    const double c = KernelShape<K, D>::template dOverQBlend<double>(q, 2.0);
+    const float f = KernelShape<K, D>::template dOverQBlend<float>(static_cast<float>(q), 2.0);
+    if (!(a == b) || !(a == c)) ++bad;
+    worstFloat = std::max(worstFloat, std::abs(static_cast<double>(f) - a));
   }
+  // float: q rounded to 6e-8 relative, then a few operations on values of order 1-5
+  if (!(worstFloat < 1e-5)) ++bad;
   return bad;
 }
 
@@ -172,7 +195,7 @@ ThreeWay threeWay(int set) {
 
 }  // namespace
 
-TEST(FluidPairPrecision, BranchFreeKernelAndViscosityEqualLibcoresBitForBit) {
+TEST(FluidPairPrecision, LibcoreBranchFreeKernelAndViscosityEqualTheClosedForms) {
   EXPECT_EQ((kernelMismatches<KernelType::CubicSpline, 2>()), 0);
   EXPECT_EQ((kernelMismatches<KernelType::CubicSpline, 3>()), 0);
   EXPECT_EQ((kernelMismatches<KernelType::WendlandC2, 2>()), 0);
@@ -184,8 +207,14 @@ TEST(FluidPairPrecision, BranchFreeKernelAndViscosityEqualLibcoresBitForBit) {
   for (int k = 0; k < 2000; ++k) {
     const Vec<3> v(u(rng), u(rng), u(rng)), r(u(rng), u(rng), u(rng));
     const double ca = 20 + 5 * u(rng), cb = 20 + 5 * u(rng), ra = 1000 + 30 * u(rng), rb = 1000 + 30 * u(rng);
-    const double a = artificialViscosityPi<3>(v, r, 0.013, 0.1, 0.0, ca, cb, ra, rb);
-    const double b = artificialViscosityPiSelect<double>(v.dot(r), r.squaredNorm(), 0.013, 0.1, ca, cb, ra, rb);
+    // Eqs. 2.64-2.65 with the branch, beta = 0 (the fluid) and beta = 0.2 (a solid's setting)
+    const double vr = v.dot(r), r2 = r.squaredNorm(), h = 0.013;
+    const double beta = (k % 2) ? 0.2 : 0.0;
+    const double nu = -h * vr / (r2 + 0.01 * h * h);
+    const double ref = vr >= 0.0 ? 0.0 : (0.1 * 0.5 * (ca + cb) * nu + beta * nu * nu) / (0.5 * (ra + rb));
+    const double a = artificialViscosityPi<3>(v, r, h, 0.1, beta, ca, cb, ra, rb);
+    const double b = artificialViscosityPiBlend<double>(vr, r2, h, 0.1, beta, ca, cb, ra, rb);
+    if (!(a == ref)) ++bad;
     if (!(a == b)) ++bad;
     if (a != 0.0) ++approaching;
   }
