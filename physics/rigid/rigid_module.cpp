@@ -589,67 +589,60 @@ void RigidModule::plateBondDeltas(const Simulation& sim) {
   if (platePartial_.size() < static_cast<size_t>(threads) * np * K)  // more threads than at set-up
     platePartial_.assign(static_cast<size_t>(threads) * np * K, 0.0);
   double* part = platePartial_.data();
-  std::fill(platePartial_.begin(), platePartial_.end(), 0.0);
+  // One pass: perTied(i, row) adds particle i's terms into its thread's row (K sums per plate),
+  // then perPlate(p, sums) receives plate p's K totals over the threads.
+  auto pass = [&](auto&& perTied, auto&& perPlate) {
+    std::fill(platePartial_.begin(), platePartial_.end(), 0.0);
 #pragma omp parallel num_threads(threads)
-  {
-    double* mine = part + static_cast<size_t>(omp_get_thread_num()) * np * K;
+    {
+      double* row = part + static_cast<size_t>(omp_get_thread_num()) * np * K;
 #pragma omp for schedule(static)
-    for (Index i = 0; i < n; ++i) {
-      if (slot[i * S] < 0) continue;
-      const double Da = dmg ? std::clamp(dmg[i], 0.0, 1.0) : 0.0;
-      for (int q = 0; q < S && slot[i * S + q] >= 0; ++q) {
-        double* s = mine + static_cast<size_t>(slot[i * S + q]) * K;
-        if (Da > 0.0) s[0] = 1.0;
-        s[1] += weight[i * S + q] * plateSoundFactor(Da);
-        if (Da > 0.5) s[2] += weight[i * S + q];
-      }
+      for (Index i = 0; i < n; ++i)
+        if (slot[i * S] >= 0) perTied(i, row);
     }
-  }
-  for (size_t p = 0; p < np; ++p) {
-    PlateBond& P = plateBonds_[p];
-    double degraded = 0.0, sound = 0.0, fixedShare = 0.0;
-    for (int t = 0; t < threads; ++t) {
-      const double* s = part + (static_cast<size_t>(t) * np + p) * K;
-      degraded = std::max(degraded, s[0]);
-      sound += s[1];
-      fixedShare += s[2];
+    for (size_t p = 0; p < np; ++p) {
+      double sums[K] = {0.0, 0.0, 0.0};
+      for (int t = 0; t < threads; ++t)
+        for (size_t k = 0; k < K; ++k) sums[k] += part[(static_cast<size_t>(t) * np + p) * K + k];
+      perPlate(p, sums);
     }
-    P.degraded = degraded > 0.0 && sound > 1e-12;
-    P.sound = P.degraded ? sound : 1.0;
-    P.damagedShareFixed = fixedShare;
-  }
-  std::fill(platePartial_.begin(), platePartial_.end(), 0.0);
-#pragma omp parallel num_threads(threads)
-  {
-    double* mine = part + static_cast<size_t>(omp_get_thread_num()) * np * K;
-#pragma omp for schedule(static)
-    for (Index i = 0; i < n; ++i) {
-      if (slot[i * S] < 0) continue;
-      Vec<D> u;
-      for (int a = 0; a < D; ++a) u[a] = wrapDelta(x[i * D + a] - origin[i * D + a], sim.domain, a);
-      for (int q = 0; q < S && slot[i * S + q] >= 0; ++q) {
-        const PlateBond& P = plateBonds_[static_cast<size_t>(slot[i * S + q])];
-        double* s = mine + static_cast<size_t>(slot[i * S + q]) * K;
-        double un = 0.0;
-        for (int a = 0; a < D; ++a) un += P.n[a] * u[a];
-        const double c = plateWeightOf(P, weight[i * S + q], dmg ? dmg[i] : 0.0);
-        s[0] += c * un;
-        if (dmg && dmg[i] > 0.5) s[1] += c;
-      }
-    }
-  }
-  for (size_t p = 0; p < np; ++p) {
-    PlateBond& P = plateBonds_[p];
-    double mean = 0.0, share = 0.0;
-    for (int t = 0; t < threads; ++t) {
-      const double* s = part + (static_cast<size_t>(t) * np + p) * K;
-      mean += s[0];
-      share += s[1];
-    }
-    P.damagedShare = share;
-    const RigidBody& B = bodies_[static_cast<size_t>(P.body)];
-    P.delta = P.n.dot(place_[static_cast<size_t>(P.body)] - B.X0) - mean;
-  }
+  };
+  pass(
+      [&](Index i, double* row) {  // sums: damaged tied particles, sum c_b (1 - D_b), fixed share
+        const double Da = dmg ? std::clamp(dmg[i], 0.0, 1.0) : 0.0;
+        for (int q = 0; q < S && slot[i * S + q] >= 0; ++q) {
+          double* s = row + static_cast<size_t>(slot[i * S + q]) * K;
+          if (Da > 0.0) s[0] += 1.0;
+          s[1] += weight[i * S + q] * plateSoundFactor(Da);
+          if (Da > 0.5) s[2] += weight[i * S + q];
+        }
+      },
+      [&](size_t p, const double* sums) {
+        PlateBond& P = plateBonds_[p];
+        P.degraded = sums[0] > 0.0 && sums[1] > 1e-12;
+        P.sound = P.degraded ? sums[1] : 1.0;
+        P.damagedShareFixed = sums[2];
+      });
+  pass(
+      [&](Index i, double* row) {  // sums: weighted mean normal displacement, damaged share
+        Vec<D> u;
+        for (int a = 0; a < D; ++a) u[a] = wrapDelta(x[i * D + a] - origin[i * D + a], sim.domain, a);
+        for (int q = 0; q < S && slot[i * S + q] >= 0; ++q) {
+          const PlateBond& P = plateBonds_[static_cast<size_t>(slot[i * S + q])];
+          double* s = row + static_cast<size_t>(slot[i * S + q]) * K;
+          double un = 0.0;
+          for (int a = 0; a < D; ++a) un += P.n[a] * u[a];
+          const double c = plateWeightOf(P, weight[i * S + q], dmg ? dmg[i] : 0.0);
+          s[0] += c * un;
+          if (dmg && dmg[i] > 0.5) s[1] += c;
+        }
+      },
+      [&](size_t p, const double* sums) {
+        PlateBond& P = plateBonds_[p];
+        P.damagedShare = sums[1];
+        const RigidBody& B = bodies_[static_cast<size_t>(P.body)];
+        P.delta = P.n.dot(place_[static_cast<size_t>(P.body)] - B.X0) - sums[0];
+      });
 }
 
 const RigidMaterial* RigidModule::materialOf(int id) const {
