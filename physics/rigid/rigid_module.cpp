@@ -725,23 +725,55 @@ BodyPartition RigidModule::partition(const Simulation& sim) const {
     }
     out.bodyOf[static_cast<size_t>(rigidIdx[static_cast<size_t>(k)])] = b;
   }
-  // Mass and centre of mass (A.7).
-  std::vector<V3> first(out.bodies.size(), V3::Zero());
-  std::vector<bool> seen(out.bodies.size(), false);
-  for (Index i = 0; i < n; ++i) {
+  // Mass and centre of mass (A.7). Along a periodic axis a body may cross the face: its
+  // particles are unwrapped by cutting the axis at the body's largest run of empty lattice
+  // layers (cyclically), so the centre is right for any body shorter than the period - the
+  // minimal image against one particle would fold a body longer than half the period onto
+  // itself. The inertia (A.8) and the body frame then use the minimal image against this centre,
+  // exact for a body shorter than the period.
+  const size_t nb = out.bodies.size();
+  std::vector<std::array<long long, 3>> cutOf(nb, std::array<long long, 3>{0, 0, 0});
+  for (int a = 0; a < d; ++a) {
+    if (!sim.domain.periodic[static_cast<size_t>(a)]) continue;
+    const long long N = std::llround(sim.domain.length(a) / dx);
+    std::vector<std::vector<char>> occupied(nb);
+    for (Index k = 0; k < nr; ++k) {
+      const int b = out.bodyOf[static_cast<size_t>(rigidIdx[static_cast<size_t>(k)])];
+      auto& o = occupied[static_cast<size_t>(b)];
+      if (o.empty()) o.assign(static_cast<size_t>(N), 0);
+      const long long c = ((cell[static_cast<size_t>(k)][static_cast<size_t>(a)] % N) + N) % N;
+      o[static_cast<size_t>(c)] = 1;
+    }
+    for (size_t b = 0; b < nb; ++b) {
+      const auto& o = occupied[b];
+      // the layer after the longest cyclic run of empty layers starts the body along axis a
+      long long bestLen = -1, bestStart = 0, run = 0;
+      for (long long t = 0; t < 2 * N; ++t) {
+        if (!o[static_cast<size_t>(t % N)]) {
+          ++run;
+          continue;
+        }
+        if (run > bestLen) {
+          bestLen = run;
+          bestStart = t % N;
+        }
+        run = 0;
+      }
+      cutOf[b][static_cast<size_t>(a)] = bestStart;
+    }
+  }
+  for (Index k = 0; k < nr; ++k) {
+    const Index i = rigidIdx[static_cast<size_t>(k)];
     const int b = out.bodyOf[static_cast<size_t>(i)];
-    if (b < 0) continue;
     RigidBody& B = out.bodies[static_cast<size_t>(b)];
     V3 p = V3::Zero();
-    for (int a = 0; a < d; ++a) p[a] = x[i * d + a];
-    // positions unwrapped next to the body's first particle (minimal image across periodic faces)
-    if (!seen[static_cast<size_t>(b)]) {
-      first[static_cast<size_t>(b)] = p;
-      seen[static_cast<size_t>(b)] = true;
+    for (int a = 0; a < d; ++a) {
+      p[a] = x[i * d + a];
+      if (!sim.domain.periodic[static_cast<size_t>(a)]) continue;
+      const long long N = std::llround(sim.domain.length(a) / dx);
+      const long long c = ((cell[static_cast<size_t>(k)][static_cast<size_t>(a)] % N) + N) % N;
+      if (c < cutOf[static_cast<size_t>(b)][static_cast<size_t>(a)]) p[a] += sim.domain.length(a);
     }
-    for (int a = 0; a < d; ++a)
-      p[a] = first[static_cast<size_t>(b)][a] +
-             wrapDelta(p[a] - first[static_cast<size_t>(b)][a], sim.domain, a);
     B.count += 1;
     B.state.mass += m[i];
     B.state.X += m[i] * p;

@@ -245,3 +245,38 @@ geometry:
   EXPECT_LT(surface, total);
   EXPECT_GT(surface, total / 3);
 }
+
+// Bodies longer than half a periodic axis: their centre of mass is the middle of their particles
+// (unwrapped by cutting the axis at the body's largest empty gap), not a folded image (the
+// minimal image against one particle put the main job's plates, 1.6 mm long on a 2.8 mm periodic
+// axis, at z = 1.05 mm instead of 1.4 mm); their inertia is that of the straight bar. One bar
+// lies inside the period, one crosses the periodic face.
+TEST(Rigid, BodyLongerThanHalfAPeriodicAxisHasItsTrueCentre) {
+  const std::string text =
+      "dimension: 2\n"
+      "domain: {lo: [0, 0], hi: [1, 1], periodic: [true, false]}\n"
+      "spacing: 0.1\n"
+      "end_time: 1\n"
+      "time_step: {dt: 1.0e-3}\noutput: {every_steps: 100}\n"
+      "materials:\n  - {name: bar, model: rigid, density: 2000}\n"
+      "geometry:\n"
+      // inside: columns 0.15 ... 0.75, rows 0.15, 0.25
+      "  - {shape: box, lo: [0.1, 0.1], hi: [0.8, 0.3], material: bar}\n"
+      // across the face: columns 0.75 ... 0.95 and 0.05 ... 0.35 (0.75 ... 1.35 unwrapped)
+      "  - {shape: box, lo: [0.7, 0.6], hi: [1.0, 0.8], material: bar}\n"
+      "  - {shape: box, lo: [0.0, 0.6], hi: [0.4, 0.8], material: bar}\n";
+  Scene s = loadSceneText(text, "bars.yaml");
+  auto* rigid = dynamic_cast<RigidModule*>(s.sim->module("rigid"));
+  ASSERT_NE(rigid, nullptr);
+  ASSERT_EQ(rigid->bodies().size(), 2u);
+  double iz = 0.0;  // A.8 about the centre: 7 columns at -0.3 ... 0.3, 2 rows at +-0.05, m = 20
+  for (int c = -3; c <= 3; ++c) iz += 2 * 20.0 * (0.01 * c * c + 0.0025);
+  for (const RigidBody& bar : rigid->bodies()) {
+    EXPECT_EQ(bar.count, 14);
+    const bool inside = bar.state.X[1] < 0.5;
+    const double cx = bar.state.X[0] - std::floor(bar.state.X[0]);  // modulo the period
+    EXPECT_NEAR(cx, inside ? 0.45 : 0.05, 1e-12) << bar.state.X[0];
+    EXPECT_NEAR(bar.state.X[1], inside ? 0.2 : 0.7, 1e-12);
+    EXPECT_NEAR(bar.state.Ib[2], iz, 1e-9);
+  }
+}
