@@ -129,7 +129,19 @@ MemoryReport memoryReport(const Simulation& sim, std::uint64_t particles,
   r.lines.push_back({"rollback copy", static_cast<double>(RollbackState::bytesPerParticle(st)),
                      0.0, "checkpoint and output fields (health: rollback_every)"});
   const std::string listKind = sim.halfNeighbourList ? " (half: each pair once)" : "";
-  if (sim.neighbours.realCount() > 0) {
+  if (sim.cellWalk) {
+    // neighbour_list: cells: no list; the search holds the cells and the sorted positions
+    // (measured once a step sorted them), the fluid's per-cell layout scratch is in its line.
+    r.lines.push_back({"neighbour list", 0.0, 0.0,
+                       "none: the symmetric loops walk the cells (neighbour_list: cells)"});
+    const Index sorted = sim.search.grid().count;
+    if (sorted > 0 && nReal > 0)
+      r.lines.push_back({"neighbour search",
+                         static_cast<double>(sim.search.bytes()) / static_cast<double>(nReal), 0.0,
+                         "measured: cells, sorted positions"});
+    else
+      r.lines.push_back({"neighbour search", 16.0 + 8.0 * d, 0.0, "estimate"});
+  } else if (sim.neighbours.realCount() > 0) {
     const double n = static_cast<double>(sim.neighbours.realCount());
     r.lines.push_back({"neighbour list", static_cast<double>(sim.neighbours.bytes()) / n, 0.0,
                        "measured: mean " +

@@ -99,6 +99,16 @@ void NeighbourSearch::sortIntoCells(const double* x, Index n, double cellSize) {
 }
 
 template <int D>
+void NeighbourSearch::copySortedPositions(const double* x, Index n) {
+  // Positions in cell order: the candidates of a row of cells are contiguous in memory.
+  xs_.resize(static_cast<size_t>(n) * D);
+#pragma omp parallel for schedule(static)
+  for (Index s = 0; s < n; ++s)
+    for (int a = 0; a < D; ++a) xs_[static_cast<size_t>(s * D + a)] = x[sorted_[static_cast<size_t>(s)] * D + a];
+  gridCount_ = n;
+}
+
+template <int D>
 void NeighbourSearch::buildDim(const double* x, Index nReal, Index nTotal, double radius,
                                NeighbourList& out, bool half) {
   out.half = half;
@@ -107,11 +117,7 @@ void NeighbourSearch::buildDim(const double* x, Index nReal, Index nTotal, doubl
   sortIntoCells<D>(x, nTotal, kCellFraction * radius);
   const double r2max = radius * radius;
   const double cell = 1.0 / invCell_;
-  // Positions in cell order: the candidates of a row of cells are contiguous in memory.
-  xs_.resize(static_cast<size_t>(nTotal) * D);
-#pragma omp parallel for schedule(static)
-  for (Index s = 0; s < nTotal; ++s)
-    for (int a = 0; a < D; ++a) xs_[static_cast<size_t>(s * D + a)] = x[sorted_[static_cast<size_t>(s)] * D + a];
+  copySortedPositions<D>(x, nTotal);
   const double* xs = xs_.data();
   const Index* sorted = sorted_.data();
   const Index* cellStart = cellStart_.data();
@@ -315,11 +321,44 @@ void NeighbourSearch::build(const double* x, int dim, Index nReal, Index nTotal,
   dispatchDimension(dim, [&](auto d) { buildDim<decltype(d)::value>(x, nReal, nTotal, radius, out, half); });
 }
 
+void NeighbourSearch::sortCells(const double* x, int dim, Index nTotal, double radius) {
+  if (!(radius > 0.0) || !(radius * radius > 0.0) || !std::isfinite(radius * radius))
+    throw std::logic_error("neighbour search: radius must be positive and finite (and its square "
+                           "a normal double), got " + std::to_string(radius));
+  if (nTotal < 0 || nTotal > static_cast<Index>(std::numeric_limits<std::uint32_t>::max()))
+    throw std::logic_error("neighbour search: need 0 <= particles < 2^32 in one store");
+  // The same cells as build() (kCellFraction of the radius, enlarged by the same cap), so that
+  // a walk of them visits the candidates of build() in the same order.
+  dispatchDimension(dim, [&](auto d) {
+    constexpr int D = decltype(d)::value;
+    sortIntoCells<D>(x, nTotal, kCellFraction * radius);
+    copySortedPositions<D>(x, nTotal);
+  });
+}
+
+NeighbourSearch::Grid NeighbourSearch::grid() const {
+  Grid g;
+  for (int a = 0; a < 3; ++a) {
+    g.dims[a] = dims_[a];
+    g.origin[a] = origin_[a];
+  }
+  g.invCell = invCell_;
+  g.margin = margin_;
+  g.cells = gridCount_ > 0 ? nCells_ : 0;
+  g.count = gridCount_;
+  g.cellStart = cellStart_.data();
+  g.sorted = sorted_.data();
+  g.cellOf = cellOf_.data();
+  g.xs = xs_.data();
+  return g;
+}
+
 void NeighbourSearch::cellOrder(const double* x, int dim, Index n, double cellSize,
                                 std::vector<Index>& newToOld) {
   if (!(cellSize > 0.0) || !std::isfinite(cellSize))
     throw std::logic_error("neighbour search: cell size must be positive and finite, got " +
                            std::to_string(cellSize));
+  gridCount_ = 0;  // the cells of the reorder, not of a search: no grid for a walk
   dispatchDimension(dim, [&](auto d) { sortIntoCells<decltype(d)::value>(x, n, cellSize); });
   newToOld.assign(sorted_.begin(), sorted_.end());
 }

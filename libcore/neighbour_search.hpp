@@ -42,6 +42,24 @@ class NeighbourSearch {
   /// to ParticleStore::permute for cache locality.
   void cellOrder(const double* x, int dim, Index n, double cellSize, std::vector<Index>& newToOld);
 
+  /// Sorts particles [0, nTotal) into the cells of a search of `radius` and keeps their
+  /// positions in cell order, as build() does, without building a list: the grid that a cell
+  /// walk reads (libcore/cell_walk.hpp, scene key `neighbour_list: cells`).
+  void sortCells(const double* x, int dim, Index nTotal, double radius);
+  /// The cell grid of the last build() or sortCells() (views into the search's arrays, valid
+  /// until its next build, sortCells or cellOrder).
+  struct Grid {
+    int dims[3] = {1, 1, 1};
+    double origin[3] = {0, 0, 0};
+    double invCell = 1.0, margin = 0.0;
+    Index cells = 0, count = 0;        ///< cells, particles sorted
+    const Index* cellStart = nullptr;  ///< cell c holds the slots cellStart[c] .. cellStart[c+1]
+    const Index* sorted = nullptr;     ///< particle of each slot (cell order)
+    const Index* cellOf = nullptr;     ///< cell of each particle
+    const double* xs = nullptr;        ///< positions by slot (dim per slot)
+  };
+  Grid grid() const;
+
   /// Number of cells of the last build (for diagnostics and tests).
   Index cellCount() const { return nCells_; }
   /// Cell edge of the last build (radius / 2 unless enlarged to cap the cell count).
@@ -55,6 +73,9 @@ class NeighbourSearch {
                 bool half);
   template <int D>
   void sortIntoCells(const double* x, Index n, double cellSize);
+  template <int D>
+  void copySortedPositions(const double* x, Index n);
+  Index gridCount_ = 0;  // particles sorted by the last build or sortCells (0 after cellOrder)
 
   Index nCells_ = 0;
   int dims_[3] = {1, 1, 1};

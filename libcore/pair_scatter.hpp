@@ -76,6 +76,31 @@ class PairScatter {
       }
       spillEnd_[static_cast<size_t>(t)] = hi;
     }
+    allocate(maxWidth);
+  }
+  /// The layout without a list (the cell walk, libcore/cell_walk.hpp cellWalkBlocks): the rows
+  /// [blockBegin[t], blockBegin[t+1]) of each of blockBegin.size() - 1 blocks and the spill end
+  /// of each (one past the largest real particle its rows add to); buffers as layout().
+  void layoutBlocks(const std::vector<Index>& blockBegin, const std::vector<Index>& spillEnd,
+                    Index nReal, int maxWidth) {
+    if (blockBegin.size() < 2 || spillEnd.size() + 1 != blockBegin.size() ||
+        blockBegin.front() != 0 || blockBegin.back() != nReal)
+      throw std::logic_error("PairScatter::layoutBlocks: blocks do not cover the rows");
+    nt_ = static_cast<int>(spillEnd.size());
+    n_ = nReal;
+    block_ = blockBegin;
+    spillEnd_ = spillEnd;
+    for (int t = 0; t < nt_; ++t)
+      spillEnd_[static_cast<size_t>(t)] =
+          std::max(spillEnd_[static_cast<size_t>(t)], block_[static_cast<size_t>(t) + 1]);
+    if (spill_.size() < static_cast<size_t>(nt_)) spill_.resize(static_cast<size_t>(nt_));
+    allocate(maxWidth);
+  }
+  /// One past the largest real particle block t's rows may add to (layout's spill end).
+  Index spillEnd(int t) const { return spillEnd_[static_cast<size_t>(t)]; }
+
+ private:
+  void allocate(int maxWidth) {
     maxWidth_ = maxWidth;
     const std::int64_t before = allocations_;
     // Room for the widest loop, with half as much again so that the layouts of later searches
@@ -93,6 +118,8 @@ class PairScatter {
     ++layouts_;
     if (allocations_ > before) ++layoutsThatGrew_;
   }
+
+ public:
   /// The buffers of the layout for a loop of `width` doubles per particle (<= the layout's
   /// maxWidth, else std::logic_error): never allocates.
   void use(int width) {

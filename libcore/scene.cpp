@@ -168,10 +168,12 @@ Scene buildScene(const YAML::Node& root, const std::string& file, const SceneOpt
     res["neighbour_skin"] = num(sim.neighbourSkin / sim.spacing);
   }
   // Full or half neighbour list (Simulation::chooseNeighbourList once the modules are known).
-  const std::string listChoice = top.choice("neighbour_list", "auto", {"full", "half", "auto"});
-  sim.neighbourListChoice = listChoice == "half"   ? Simulation::NeighbourListChoice::Half
-                            : listChoice == "auto" ? Simulation::NeighbourListChoice::Auto
-                                                   : Simulation::NeighbourListChoice::Full;
+  const std::string listChoice =
+      top.choice("neighbour_list", "auto", {"full", "half", "auto", "cells"});
+  sim.neighbourListChoice = listChoice == "half"    ? Simulation::NeighbourListChoice::Half
+                            : listChoice == "auto"  ? Simulation::NeighbourListChoice::Auto
+                            : listChoice == "cells" ? Simulation::NeighbourListChoice::Cells
+                                                    : Simulation::NeighbourListChoice::Full;
   if (top.has("neighbour_list")) res["neighbour_list"] = listChoice;
   const std::string listWhere = top.where("neighbour_list");
 

@@ -166,6 +166,10 @@ void Simulation::chooseNeighbourList() {
 
 void Simulation::evaluateRates() {
   updateNeighbours();
+  evaluateRatesOnTheList();
+}
+
+void Simulation::evaluateRatesOnTheList() {
   const Index n = store.size();
   if (previousAcceleration_.valid())
     std::memcpy(store.data(previousAcceleration_), store.data(acceleration),

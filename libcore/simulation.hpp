@@ -119,9 +119,12 @@ class Simulation {
   /// Stage 1: wrap periodic particles, (re)build halos and neighbour lists; reorder the store
   /// along the cells every reorderEvery calls.
   void updateNeighbours();
-  /// Stages 1-6: zero accelerations and rates, then every module's kinematics, constitutive,
-  /// forces, interfaces and constraints, in module order within a stage.
+  /// Stages 1-6: updateNeighbours, then evaluateRatesOnTheList.
   void evaluateRates();
+  /// Stages 2-6 on the neighbour lists as they stand: zero accelerations and rates, then every
+  /// module's kinematics, constitutive, forces, interfaces and constraints, in module order
+  /// within a stage (a test may edit the lists between the two).
+  void evaluateRatesOnTheList();
   /// Minimum over the modules' limits (and +inf when no module limits the step).
   double stableTimeStep() const;
   /// Columns for timeseries.csv: time, step, dt, kinetic energy, then each module's.

@@ -21,6 +21,7 @@
 #include <type_traits>
 
 #include "libcore/artificial_viscosity.hpp"
+#include "libcore/cell_walk.hpp"
 #include "libcore/fluid_pair_terms.hpp"
 #include "libcore/phases.hpp"
 #include "libcore/simulation.hpp"
@@ -135,6 +136,39 @@ PORESPH_BLOCK_CLONES void fluidFluidBlockTerms(FluidFluidBlock<Real, D>& b, cons
   }
 }
 
+// The rows of the symmetric loops: the stored half list (or its Verlet candidates), or the cell
+// walk without a list (`neighbour_list: cells`, libcore/cell_walk.hpp). Both call f(j) for the
+// same j of row i in the same order, so one loop body serves both (no physics written twice).
+struct ListRows {
+  const NeighbourList* nl;
+  template <class F>
+  void operator()(Index i, F&& f) const {
+    const std::int64_t k1 = nl->offset[static_cast<size_t>(i) + 1];
+    for (auto k = nl->offset[static_cast<size_t>(i)]; k < k1; ++k)
+      f(static_cast<Index>(nl->index[static_cast<size_t>(k)]));
+  }
+};
+template <int D>
+struct WalkRows {
+  CellWalk<D> walk;
+  template <class F>
+  void operator()(Index i, F&& f) const {
+    walk.row(i, f);
+  }
+};
+// Calls body(rows) with the rows of this evaluation: `candidates` asks for the candidates of
+// the last search (a superset until the next one; with the walk, the exact pairs).
+template <int D, class Body>
+void withRows(const Simulation& sim, const double* x, bool candidates, Body&& body) {
+  if (sim.cellWalk) {
+    const WalkRows<D> rows{CellWalk<D>(sim.search.grid(), x, sim.kernel.support())};
+    body(rows);
+  } else {
+    const ListRows rows{candidates ? &sim.neighbourCandidates() : &sim.neighbours};
+    body(rows);
+  }
+}
+
 }  // namespace
 
 void FluidModule::layoutHalf(Simulation& sim, int width) {
@@ -145,7 +179,13 @@ void FluidModule::layoutHalf(Simulation& sim, int width) {
     // the candidates' rows until the next search. Every buffer of the symmetric loops is sized
     // here for the widest of them, so that the loops themselves never allocate.
     const int maxWidth = halfWidth(sim.dimension());
-    scatter_.layout(sim.neighbourCandidates(), n, maxWidth);
+    if (sim.cellWalk) {  // no list: blocks and spill bounds from the cells
+      cellWalkBlocks(sim.search.grid(), sim.dimension(), sim.kernel.support(), n,
+                     std::max(1, omp_get_max_threads()), walkBlocks_, walkSpill_, walkScratch_);
+      scatter_.layoutBlocks(walkBlocks_, walkSpill_, n, maxWidth);
+    } else {
+      scatter_.layout(sim.neighbourCandidates(), n, maxWidth);
+    }
     if (pairSum_.size() < static_cast<size_t>(n * maxWidth))
       pairSum_.resize(static_cast<size_t>(n * maxWidth));
     layoutBuild_ = sim.neighbourBuilds();
@@ -168,30 +208,50 @@ int FluidModule::halfWidth(int d) const {
 template <int D>
 void FluidModule::wetFlagsHalf(Simulation& sim, const Fields& f) {
   const Index n = f.n;
-  const auto& cl = sim.neighbourCandidates();
   const Index* ghostSource = sim.store.ghostSources().data();
   unsigned char* wet = wetFlag_.data();
 #pragma omp parallel for schedule(static)
   for (Index i = 0; i < n; ++i) wet[i] = 0;
+  if (sim.cellWalk) {
+    // Without a list only the fluid rows are walked, whole (every neighbour, not only j > i):
+    // a boundary particle with a fluid neighbour is a neighbour of that fluid particle (or, for a
+    // ghost fluid neighbour, its image is one of the ghost's source; the halo holds every phase).
+    // The flags are then the same as the half list's for the fluid particles and a superset for
+    // the boundary (a flagged boundary particle without a fluid neighbour gets nothing).
+    const CellWalk<D> walk(sim.search.grid(), f.x, sim.kernel.support());
 #pragma omp parallel for schedule(dynamic, 512)
-  for (Index i = 0; i < n; ++i) {
-    const bool fi = f.ph[i] == kPhaseFluid;
-    for (auto k = cl.offset[i]; k < cl.offset[i + 1]; ++k) {
-      const Index j = cl.index[static_cast<size_t>(k)];
-      if ((f.ph[j] == kPhaseFluid) == fi) continue;
-      const Index b = j < n ? j : ghostSource[j - n];
+    for (Index i = 0; i < n; ++i) {
+      if (f.ph[i] != kPhaseFluid) continue;
+      walk.template row<false>(i, [&](const Index j) {
+        if (f.ph[j] == kPhaseFluid) return;
+        const Index b = j < n ? j : ghostSource[j - n];
 #pragma omp atomic write
-      wet[b] = 1;
+        wet[b] = 1;
 #pragma omp atomic write
-      wet[i] = 1;
+        wet[i] = 1;
+      });
     }
+    return;
   }
+  withRows<D>(sim, f.x, true, [&](const auto& rows) {
+#pragma omp parallel for schedule(dynamic, 512)
+    for (Index i = 0; i < n; ++i) {
+      const bool fi = f.ph[i] == kPhaseFluid;
+      rows(i, [&](const Index j) {
+        if ((f.ph[j] == kPhaseFluid) == fi) return;
+        const Index b = j < n ? j : ghostSource[j - n];
+#pragma omp atomic write
+        wet[b] = 1;
+#pragma omp atomic write
+        wet[i] = 1;
+      });
+    }
+  });
 }
 
 template <int D>
 void FluidModule::wallExtrapolationHalf(Simulation& sim, const Fields& f) {
   const Index n = f.n;
-  const auto& nl = sim.neighbours;
   const unsigned char* wet = wetFlag_.data();
   Vec<D> g;
   for (int a = 0; a < D; ++a) g[a] = gravity_[static_cast<size_t>(a)];
@@ -199,6 +259,7 @@ void FluidModule::wallExtrapolationHalf(Simulation& sim, const Fields& f) {
   constexpr int w = 2 + 2 * D;
   layoutHalf(sim, w);
   double* own = pairSum_.data();
+  withRows<D>(sim, f.x, false, [&](const auto& rows) {
   sim.kernel.withFixedType<D>([&](const auto K) {
 #pragma omp parallel num_threads(scatter_.threads())
     {
@@ -209,10 +270,9 @@ void FluidModule::wallExtrapolationHalf(Simulation& sim, const Fields& f) {
           const bool fi = f.ph[i] == kPhaseFluid;
           double sw = 0.0, sp = 0.0;
           Vec<D> srr = Vec<D>::Zero(), sv = Vec<D>::Zero();
-          for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
-            const Index j = nl.index[static_cast<size_t>(k)];
+          rows(i, [&](const Index j) {
             const bool fj = f.ph[j] == kPhaseFluid;
-            if (fi == fj) continue;
+            if (fi == fj) return;
             Vec<D> r;
             for (int a = 0; a < D; ++a) r[a] = f.x[i * D + a] - f.x[j * D + a];
             const double wk = K.value(r.norm());
@@ -232,7 +292,7 @@ void FluidModule::wallExtrapolationHalf(Simulation& sim, const Fields& f) {
                 tj[2 + D + a] += f.v[i * D + a] * wk;
               }
             }
-          }
+          });
           if (!fi) {
             double* ti = own + i * w;
             ti[0] += sw;
@@ -267,15 +327,16 @@ void FluidModule::wallExtrapolationHalf(Simulation& sim, const Fields& f) {
       });
     }
   });
+  });
 }
 
 template <int D>
 void FluidModule::densitySummationHalf(Simulation& sim, const Fields& f) {
   const Index n = f.n;
-  const auto& nl = sim.neighbours;
   layoutHalf(sim, 1);
   double* own = pairSum_.data();
   const double w0 = sim.kernel.value(0.0);
+  withRows<D>(sim, f.x, false, [&](const auto& rows) {
   sim.kernel.withFixedType<D>([&](const auto K) {
 #pragma omp parallel num_threads(scatter_.threads())
     {
@@ -284,16 +345,15 @@ void FluidModule::densitySummationHalf(Simulation& sim, const Fields& f) {
         for (Index i = scatter_.begin(t); i < scatter_.end(t); ++i) {
           const bool fi = f.ph[i] == kPhaseFluid;
           double s = 0.0;
-          for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
-            const Index j = nl.index[static_cast<size_t>(k)];
+          rows(i, [&](const Index j) {
             const bool fj = j < n && f.ph[j] == kPhaseFluid;
-            if (!fi && !fj) continue;
+            if (!fi && !fj) return;
             Vec<D> r;
             for (int a = 0; a < D; ++a) r[a] = f.x[i * D + a] - f.x[j * D + a];
             const double wk = K.value(r.norm());
             s += wk;
             if (fj) *scatter_.at(t, own, j) += wk;
-          }
+          });
           own[i] += s;
         }
       });
@@ -305,14 +365,15 @@ void FluidModule::densitySummationHalf(Simulation& sim, const Fields& f) {
       });
     }
   });
+  });
 }
 
 template <int D>
 void FluidModule::viscousFactorsHalf(Simulation& sim, const Fields& f) {
   const Index n = f.n;
-  const auto& nl = sim.neighbours;
   layoutHalf(sim, 1);
   double* own = pairSum_.data();
+  withRows<D>(sim, f.x, false, [&](const auto& rows) {
   sim.kernel.withFixedType<D>([&](const auto K) {
 #pragma omp parallel num_threads(scatter_.threads())
     {
@@ -321,16 +382,15 @@ void FluidModule::viscousFactorsHalf(Simulation& sim, const Fields& f) {
         for (Index i = scatter_.begin(t); i < scatter_.end(t); ++i) {
           const bool fi = f.ph[i] == kPhaseFluid;
           double moment = 0.0;  // sum_b V_b |r_ab|^2 (-F_ab), as the gather pass
-          for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
-            const Index j = nl.index[static_cast<size_t>(k)];
+          rows(i, [&](const Index j) {
             const bool fj = j < n && f.ph[j] == kPhaseFluid;
-            if (!fi && !fj) continue;
+            if (!fi && !fj) return;
             Vec<D> r;
             for (int a = 0; a < D; ++a) r[a] = f.x[i * D + a] - f.x[j * D + a];
             const double r2 = r.squaredNorm(), F = K.F(r.norm());
             if (fi) moment -= (f.m[j] / f.rho[j]) * r2 * F;
             if (fj) *scatter_.at(t, own, j) -= (f.m[i] / f.rho[i]) * r2 * F;
-          }
+          });
           own[i] += moment;
         }
       });
@@ -342,13 +402,13 @@ void FluidModule::viscousFactorsHalf(Simulation& sim, const Fields& f) {
       });
     }
   });
+  });
 }
 
 template <int D>
 void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
                                 const double* wallRho) {
   const Index n = f.n;
-  const auto& nl = sim.neighbours;
   const bool xsphOn = xsph_ > 0.0, shiftOn = shifting_ > 0.0, tvOn = transportVelocity_;
   const double pOff = pressureReference_ ? backgroundPressure_ : 0.0;
   const double tvScale = tvOn ? sim.dt * backgroundPressure_ : 0.0;
@@ -407,6 +467,7 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
   run.massForm = form == ContinuityForm::Mass;
   run.diffusion = delta > 0.0;
 
+  withRows<D>(sim, f.x, false, [&](const auto& rows) {
   sim.kernel.withFixedType<D>([&](const auto K) {
     constexpr KernelType kType = FixedKernelType<std::decay_t<decltype(K)>>::value;
     FluidFluidRun kr = run;
@@ -497,21 +558,20 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
             blk.j[blk.n++] = j;
             if (blk.n == kBlock) flush(blk);
           };
-          for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
-            const Index j = nl.index[static_cast<size_t>(k)];
+          rows(i, [&](const Index j) {
             const bool recB = j < n && receives(j);
-            if (!recA && !recB) continue;
+            if (!recA && !recB) return;
             if (blockOn && recA && recB) {  // fluid-fluid, both sides: the vectorised block
               if (floatPairs)
                 push(blockF, j);
               else
                 push(blockD, j);
-              continue;
+              return;
             }
             Vec<D> r;
             for (int a = 0; a < D; ++a) r[a] = f.x[i * D + a] - f.x[j * D + a];
             const double F = K.F(r.norm());
-            if (F == 0.0) continue;
+            if (F == 0.0) return;
             const Vec<D> gradW = F * r;  // grad_a W_ab; grad_b W_ba = -gradW
             Vec<D> vb;
             for (int a = 0; a < D; ++a) vb[a] = f.v[j * D + a];
@@ -566,7 +626,7 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
               for (int a = 0; a < D; ++a) tb[a] += s[a];
               tb[kDiv] += tr.divergence;
             }
-            if (!(fluidA && fluidB)) continue;  // fluid-solid / fluid-rigid: the coupling's
+            if (!(fluidA && fluidB)) return;  // fluid-solid / fluid-rigid: the coupling's
             // Fluid-fluid pair (Eqs. 5.1a, 5.2b / Hu-Adams, 5.4, 2.64): each side's term as the
             // gather loop writes it for that side.
             const int idb = f.mt[j];
@@ -609,7 +669,7 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
               for (int a = 0; a < D; ++a) tb[a] += fB[a];
               tb[kDiv] += continuityTerm(form, rhob, ma, Va, vabGradW);
             }
-          }
+          });
           if (blockF.n > 0) flush(blockF);
           if (blockD.n > 0) flush(blockD);
           if (recA) {
@@ -661,10 +721,13 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
       });
     }
   });
+  });
 }
 
 std::uint64_t FluidModule::heldBytes() const {
-  return static_cast<std::uint64_t>(scatter_.bytes() + pairSum_.capacity() * sizeof(double));
+  return static_cast<std::uint64_t>(scatter_.bytes() + pairSum_.capacity() * sizeof(double) +
+                                    walkScratch_.bytes() +
+                                    (walkBlocks_.capacity() + walkSpill_.capacity()) * sizeof(Index));
 }
 
 double FluidModule::deferredBytesPerParticle(const Simulation& sim, double,

@@ -32,6 +32,7 @@
 #include <string>
 #include <vector>
 
+#include "libcore/cell_walk.hpp"
 #include "libcore/fluid_pair_terms.hpp"
 #include "libcore/fluid_properties.hpp"
 #include "libcore/module.hpp"
@@ -175,6 +176,8 @@ class FluidModule : public Module {
   /// the per-particle sums sized there for halfWidth(); then set to `width` (no allocation).
   void layoutHalf(Simulation& sim, int width);
   PairScatter scatter_;            // blocks and spill buffers of the symmetric loops
+  CellWalkScratch walkScratch_;    // neighbour_list: cells: per-cell scratch of the layout
+  std::vector<Index> walkBlocks_, walkSpill_;  // ... and its blocks and spill ends
   Index layoutBuild_ = -1, layoutCount_ = -1;  // neighbour search and store size of the layout
   std::vector<double> pairSum_;    // per-particle sums of the symmetric loops (sized once)
   std::vector<unsigned char> receives_;  // force loop: a moving fluid particle of a fluid material
