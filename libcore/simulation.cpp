@@ -140,6 +140,17 @@ void Simulation::updateNeighbours() {
   }
   ++neighbourBuilds_;
   halo.build(store, domain, verletActive_ ? support + neighbourSkin : support);
+  if (cellWalk) {
+    // No stored list (`neighbour_list: cells`): the cells of the search, walked by the
+    // symmetric loops (libcore/cell_walk.hpp); `neighbours` is an empty half list.
+    search.sortCells(store.data(store.position()), dimension(), store.size(), support);
+    neighbours.half = true;
+    if (neighbours.offset.capacity() > 0 || neighbours.index.capacity() > 0) {
+      std::vector<std::int64_t>().swap(neighbours.offset);
+      std::vector<std::uint32_t>().swap(neighbours.index);
+    }
+    return;
+  }
   if (verletActive_) {
     verlet.rebuild(search, store.data(store.position()), dimension(), store.realCount(),
                    store.size(), support, neighbourSkin, halfNeighbourList);
@@ -152,16 +163,24 @@ void Simulation::updateNeighbours() {
 
 void Simulation::chooseNeighbourList() {
   halfNeighbourList = false;
+  cellWalk = false;
   if (neighbourListChoice == NeighbourListChoice::Full) return;
+  const bool cells = neighbourListChoice == NeighbourListChoice::Cells;
   for (const auto& m : modules) {
     if (m->supportsHalfNeighbourList()) continue;
     if (neighbourListChoice == NeighbourListChoice::Auto) return;
-    throw InputError("neighbour_list: half: module '" + m->name() +
-                     "' needs the full neighbour list as configured (a half list serves only "
-                     "the modules whose pair loops are symmetric: docs/performance.md); use "
-                     "neighbour_list: full or auto");
+    throw InputError(std::string("neighbour_list: ") + (cells ? "cells" : "half") + ": module '" +
+                     m->name() +
+                     "' needs the full neighbour list as configured (a half list or cell walk "
+                     "serves only the modules whose pair loops are symmetric: "
+                     "docs/performance.md); use neighbour_list: full or auto");
   }
+  if (cells && neighbourSkin > 0.0)
+    throw InputError("neighbour_list: cells walks the cells at every step and keeps no list: "
+                     "it takes no neighbour_skin (remove it or use neighbour_list: half)");
   halfNeighbourList = true;
+  cellWalk = cells;
+  if (cellWalk) neighbours.half = true;  // empty: the loops walk the cells
 }
 
 void Simulation::evaluateRates() {

@@ -77,12 +77,18 @@ class Simulation {
   VerletNeighbours verlet;
   /// Scene key `neighbour_list`: `full` (every pair in both rows), `half` (each pair of real
   /// particles once, NeighbourList::half, for the modules' symmetric pair loops; refused when a
-  /// module needs the full list) or `auto` (half when every module supports it).
-  enum class NeighbourListChoice { Full, Half, Auto };
+  /// module needs the full list), `auto` (half when every module supports it) or `cells` (no
+  /// stored list: the symmetric loops find the half list's pairs in the search's cells,
+  /// libcore/cell_walk.hpp; same modules as half, no Verlet skin).
+  enum class NeighbourListChoice { Full, Half, Auto, Cells };
   NeighbourListChoice neighbourListChoice = NeighbourListChoice::Full;
   /// True when `neighbours` (and the Verlet candidates) are half lists; set by
   /// chooseNeighbourList() from the choice and the modules (Module::supportsHalfNeighbourList).
   bool halfNeighbourList = false;
+  /// True with the choice `cells` (then halfNeighbourList too): updateNeighbours only sorts the
+  /// particles into cells (search.grid()), `neighbours` stays an empty half list, and the
+  /// symmetric loops walk the cells (libcore/cell_walk.hpp).
+  bool cellWalk = false;
   /// Sets halfNeighbourList. With the choice `half`, throws InputError naming the first module
   /// that needs the full list (as configured).
   void chooseNeighbourList();
