@@ -288,9 +288,8 @@ const std::vector<VaryName>& varyTable() {
       {"dt", "time_step: {adaptive: false, dt: V}, time_step.cfl removed", ""},
       {"integrator", "integrator", ""},
       {"end_time", "end_time", ""},
-      {"precision", "",
-       "no scene key selects the floating-point precision yet (every run computes in double); "
-       "it is not varied"},
+      {"precision", "fluid.pair_precision (double, float = single: the fluid-fluid pair "
+                    "arithmetic; everything else computes in double)", ""},
       {"correction", "",
        "no scene key selects a kernel or gradient correction (the solid always uses the mixed "
        "correction of Eq. 2.63b, the fluid none; docs/operators.md); it is not varied"},
@@ -344,6 +343,14 @@ VaryAxis parseVary(const std::string& text) {
   for (const auto& v : varyTable()) {
     if (v.name == a.name) {
       if (!v.refusal.empty()) throw InputError("--vary " + a.name + ": " + v.refusal);
+      if (a.name == "precision") {
+        for (auto& k : a.values) {
+          if (k == "single") k = "float";
+          if (k != "double" && k != "float")
+            throw InputError("--vary precision: unknown precision '" + k +
+                             "' (double, or float / single: the fluid module's pair_precision)");
+        }
+      }
       if (a.name == "kernel") {
         const std::vector<std::string> known = {"cubic_spline", "gaussian", "wendland_c2", "quintic_spline"};
         for (auto& k : a.values) {
@@ -368,6 +375,7 @@ VaryAxis parseVary(const std::string& text) {
 
 std::vector<SceneEdit> studyEdits(const std::string& name, const std::string& value) {
   if (name == "kernel") return {{"kernel", kernelAlias(value)}};
+  if (name == "precision") return {{"fluid.pair_precision", value == "single" ? "float" : value}};
   if (name == "cfl")
     return {{"time_step.adaptive", "true"}, {"time_step.cfl", value}, {"time_step.dt", "", true}};
   if (name == "dt")
@@ -540,6 +548,11 @@ std::vector<StudyRow> runStudy(const StudyOptions& o) {
   if (o.out.empty()) throw InputError("--out: give the study's folder");
   if (o.cost != "wall" && o.cost != "cpu")
     throw InputError("--cost '" + o.cost + "': expected wall or cpu");
+  for (const auto& a : axes)  // the precision is the fluid module's key: never add a fluid module
+    if (a.name == "precision" && !base["fluid"])
+      throw InputError("--vary precision: scene '" + o.scene +
+                       "' has no `fluid:` section; the precision varied is the fluid module's "
+                       "pair_precision (the solid and the other modules compute in double)");
   // The reference: read from the base scene with the --set edits (so --set reference.value=...
   // works), through the scene parser.
   ReferenceSpec reference;

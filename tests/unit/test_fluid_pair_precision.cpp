@@ -113,18 +113,6 @@ geometry:
   return s;
 }
 
-// One rate evaluation on the list as it stands (as Simulation::evaluateRates).
-void rates(Simulation& sim) {
-  const Index n = sim.store.size();
-  std::memset(sim.store.data(sim.acceleration), 0, sizeof(double) * static_cast<size_t>(n * sim.dimension()));
-  for (const auto& f : sim.integrated)
-    std::memset(sim.store.data(f.rate), 0,
-                sizeof(double) * static_cast<size_t>(n * sim.store.components(f.rate.id)));
-  for (auto& m : sim.modules) m->kinematics(sim);
-  for (auto& m : sim.modules) m->constitutive(sim);
-  for (auto& m : sim.modules) m->forces(sim);
-}
-
 void copyState(Simulation& from, Simulation& to) {
   ASSERT_EQ(from.store.size(), to.store.size());
   for (const FieldSpec& f : from.store.fields()) {
@@ -189,7 +177,7 @@ ThreeWay threeWay(int set) {
   EXPECT_TRUE(hd.sim->neighbours.half);
   EXPECT_TRUE(hf.sim->neighbours.half);
   EXPECT_TRUE(dynamic_cast<const FluidModule*>(hf.sim->module("fluid"))->floatPairs());
-  for (Scene* s : {&full, &hd, &hf}) rates(*s->sim);
+  for (Scene* s : {&full, &hd, &hf}) s->sim->evaluateRatesOnTheList();
   return {rateDiff(*full.sim, *hd.sim), rateDiff(*hd.sim, *hf.sim)};
 }
 

@@ -373,19 +373,6 @@ TEST(HalfNeighbourList, CaseA3DEqualsTheFullListRun) {
 
 namespace {
 
-// One rate evaluation on the list as it stands (Simulation::evaluateRates without the
-// neighbour update), so that a test can edit the list first.
-void ratesOnTheList(Simulation& sim) {
-  const Index n = sim.store.size();
-  std::memset(sim.store.data(sim.acceleration), 0, sizeof(double) * static_cast<size_t>(n * sim.dimension()));
-  for (const auto& f : sim.integrated)
-    std::memset(sim.store.data(f.rate), 0,
-                sizeof(double) * static_cast<size_t>(n * sim.store.components(f.rate.id)));
-  for (auto& m : sim.modules) m->kinematics(sim);
-  for (auto& m : sim.modules) m->constitutive(sim);
-  for (auto& m : sim.modules) m->forces(sim);
-}
-
 // Largest difference of accelerations and density rates of two stores of the same particles
 // (matched by id), relative to the largest value of each.
 std::pair<double, double> rateDifference(const Simulation& a, const Simulation& b) {
@@ -449,8 +436,8 @@ TEST(HalfNeighbourList, RatesEqualTheFullListsAndALostPairIsSeen) {
   b.updateNeighbours();
   ASSERT_TRUE(b.neighbours.half);
   ASSERT_EQ(positionsById(a), positionsById(b));
-  ratesOnTheList(a);
-  ratesOnTheList(b);
+  a.evaluateRatesOnTheList();
+  b.evaluateRatesOnTheList();
   const auto same = rateDifference(a, b);
   std::printf("one evaluation: accelerations %.3g, density rates %.3g of their largest\n",
               same.first, same.second);
@@ -472,7 +459,7 @@ TEST(HalfNeighbourList, RatesEqualTheFullListsAndALostPairIsSeen) {
     }
   }
   ASSERT_TRUE(dropped);
-  ratesOnTheList(b);
+  b.evaluateRatesOnTheList();
   const auto lost = rateDifference(a, b);
   std::printf("one pair dropped: accelerations %.3g, density rates %.3g of their largest\n",
               lost.first, lost.second);

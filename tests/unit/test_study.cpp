@@ -96,6 +96,14 @@ TEST(Study, VaryNamesMapToSceneKeys) {
   EXPECT_EQ(e[0].path, "spacing");
   e = studyEdits("h_over_dx", "1.5");
   EXPECT_EQ(e[0].path, "h_over_dx");
+  // precision is the fluid module's pair precision (single is float's alias).
+  const VaryAxis pr = parseVary("precision=double,single");
+  ASSERT_EQ(pr.values.size(), 2u);
+  EXPECT_EQ(pr.values[1], "float");
+  e = studyEdits("precision", "float");
+  ASSERT_EQ(e.size(), 1u);
+  EXPECT_EQ(e[0].path, "fluid.pair_precision");
+  EXPECT_EQ(e[0].value, "float");
   // A dotted path is a scene key.
   const VaryAxis p = parseVary("materials.gas.density=1000,10");
   EXPECT_EQ(p.values.size(), 2u);
@@ -103,7 +111,7 @@ TEST(Study, VaryNamesMapToSceneKeys) {
 }
 
 TEST(Study, RefusedNamesSayWhy) {
-  EXPECT_NE(errorOf([] { parseVary("precision=single,double"); }).find("no scene key selects the floating-point precision"),
+  EXPECT_NE(errorOf([] { parseVary("precision=half,double"); }).find("unknown precision 'half'"),
             std::string::npos);
   EXPECT_NE(errorOf([] { parseVary("correction=none,mixed"); }).find("no scene key selects a kernel or gradient correction"),
             std::string::npos);
@@ -300,5 +308,9 @@ TEST(Study, FailedAndUnstableRunsAreRows) {
   o.scene = std::string(PORESPH_SOURCE_DIR) + "/samples/fluid_static_droplet.yaml";
   o.out = (out / "none").string();
   EXPECT_NE(errorOf([&] { runStudy(o); }).find("declares no `reference:`"), std::string::npos);
+  // The precision is the fluid module's: a scene without one is refused (no fluid module added).
+  o.scene = std::string(PORESPH_SOURCE_DIR) + "/samples/solid_lame.yaml";
+  o.vary = {"precision=double,float"};
+  EXPECT_NE(errorOf([&] { runStudy(o); }).find("has no `fluid:` section"), std::string::npos);
   fs::remove_all(out);
 }
