@@ -4,7 +4,8 @@
 // a child process, so that a case that fails (bad value, blow-up, crash) is reported and the
 // others still run. The last timeseries row of each case goes into DIR/summary.csv and
 // DIR/summary.md; scripts/plot_timeseries.py draws the chosen columns of every case in
-// DIR/summary.png.
+// DIR/summary.png. Linked keys, `--set a.b+c.d=v1,v2`, give each case's value to every key joined
+// by '+' (both confining plates of a drainage scene in one sweep).
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -47,6 +48,10 @@ Setting parseSet(const std::string& text) {
   Setting s;
   std::tie(s.key, s.values) = parseNamedList(
       text, "--set", "key.path=v1,v2,... (e.g. --set materials.clay.young_modulus=1e8,2e8)");
+  for (const auto& k : splitList(s.key, '+'))
+    if (k.empty())
+      throw InputError("--set '" + text + "': an empty key path in '" + s.key +
+                       "' (linked keys: key.a+key.b=v1,v2 gives each case's value to both)");
   return s;
 }
 
@@ -116,7 +121,8 @@ int runSweep(const SweepOptions& o) {
       std::vector<SceneEdit> edits;
       std::string header = o.scene + " with";
       for (const auto& [key, value] : k.chosen) {
-        edits.push_back({key, value});
+        // Linked keys `a+b=v1,v2`: one value per case, written to each key (e.g. both plates).
+        for (const auto& one : splitList(key, '+')) edits.push_back({one, value});
         header += " " + key + "=" + value;
       }
       writeCaseScene(base, edits, sceneDir.string(), scenePath.string(), header + " (poresph sweep)");

@@ -132,3 +132,31 @@ TEST(Sweep, CasesSummaryFailuresAndScripts) {
   EXPECT_EQ(r.code, 0) << r.output;
   fs::remove_all(out);
 }
+
+// Linked keys (`--set a+b=v1,v2`): each case writes its one value to every key joined by '+', as a
+// drainage sweep sets both confining plates; an empty key in the link is refused before any run.
+TEST(Sweep, LinkedKeysTakeOneValuePerCase) {
+  const fs::path out = fs::path(PORESPH_BINARY_DIR) / ("tmp_test_sweep_linked_" + std::to_string(getpid()));
+  fs::remove_all(out);
+  Result r = shell(kBinary + " sweep " + kScene +
+                   " --set materials.clay.density+materials.inclusion.density=2100,2200 --set end_time=2e-7"
+                   " --threads 1 --no-plot --out \"" + out.string() + "\"");
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("2 finished, 0 failed"), std::string::npos) << r.output;
+  for (const std::string v : {"2100", "2200"}) {
+    const fs::path scene = out / ("case0"s + (v == "2100" ? "1" : "2") + "_density=" + v + "_end_time=2e-7") / "scene.yaml";
+    const std::string text = slurp(scene);
+    size_t n = 0;
+    for (size_t at = text.find("density: " + v); at != std::string::npos; at = text.find("density: " + v, at + 1)) ++n;
+    EXPECT_EQ(n, 2u) << scene << ":\n" << text;  // clay and inclusion, nothing else
+    EXPECT_EQ(text.find("density: 2000"), std::string::npos) << text;
+    EXPECT_EQ(text.find("density: 2650"), std::string::npos) << text;
+  }
+  EXPECT_NE(slurp(out / "summary.csv").find("case,materials.clay.density+materials.inclusion.density,end_time,status"),
+            std::string::npos);
+  r = shell(kBinary + " sweep " + kScene + " --set materials.clay.density+=1,2 --out \"" + out.string() + "_c\"");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("an empty key path"), std::string::npos) << r.output;
+  fs::remove_all(out);
+  fs::remove_all(out.string() + "_c");
+}
