@@ -15,7 +15,7 @@
 // Asserted (issue 14: "the imposed flow at least 10x the measured spurious speed"): v_g over the
 // floor's largest and rms speeds, each bound ~15 % below its measured value (12.7 and 50,
 // measured 2026-11-27), so that a louder surface tension (or a slower imposed flow) fails. The
-// main job's own ratio (3D, 6.5 / 25 as shipped, 13 / 44 at gamma = 0.0025) and the 2D sample's
+// main job's own ratio (3D, 5.6 / 25 as shipped, 11 / 46 at gamma = 0.0025) and the 2D sample's
 // are in docs/drainage.md "Imposed flow against the capillary floor".
 #include <gtest/gtest.h>
 
