@@ -128,6 +128,12 @@ TEST(Scene, ValidSceneBuildsParticlesWithMassRho0DxD) {
   EXPECT_DOUBLE_EQ(s.nextTimeStep(), 1e-3);
   s.sim->time = 0.0095;
   EXPECT_NEAR(s.nextTimeStep(), 0.0005, 1e-15);
+  // No sliver: a remainder up to 1 % beyond dt is one step (1.005e-3 would leave 5e-6 s).
+  s.sim->time = 0.01 - 1.005e-3;
+  EXPECT_NEAR(s.nextTimeStep(), 1.005e-3, 1e-15);
+  s.sim->time = 0.01 - 1.02e-3;
+  EXPECT_DOUBLE_EQ(s.nextTimeStep(), 1e-3);
+  s.sim->time = 0.0;
   // The echo holds the defaults that were used.
   const std::string echo = resolvedSceneYaml(s);
   EXPECT_NAMES(echo, "h_over_dx: 1.3");
