@@ -15,7 +15,7 @@ BUILD=${1:-build}
 NLIST=${NLIST:-"half cells"}
 DX=${DX:-"0.01 0.0075"}
 STEPS=${STEPS:-5}
-SCENE=$(dirname "$0")/scenes/dam_break_caseA_cubic.yaml
+SCENE=${SCENE:-$(dirname "$0")/scenes/dam_break_caseA_cubic.yaml}
 TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT
 export OMP_NUM_THREADS=1
@@ -37,14 +37,32 @@ for mode in $NLIST; do
     n=$(echo "$info" | awk '/^particles:/ { print $2 }')
     held=$(echo "$info" | grep -E '^ +total ' | awk '{print $2}')
     /usr/bin/time -v "$BUILD/poresph" run "$s" --out "$TMP/run_${mode}_$dx" --threads 1 \
-      > "$TMP/run.log" 2> "$TMP/time.log"
+      > "$TMP/run.log" 2> "$TMP/time.log" &
+    # Resident memory while stepping: VmRSS sampled every 0.1 s from the first progress line
+    # (after step 1: the initial snapshot is written before it) until a line reports step
+    # STEPS - 1 (the final snapshot and checkpoint come after the last step). Progress lines
+    # come at most once a wall second (stderr): with steps shorter than that the window is
+    # only approximate.
+    step_rss=0
+    while kill -0 $! 2> /dev/null; do
+      pid=$(pgrep -P $! -x poresph | head -1)
+      k=$(awk '/^step / { k = $2 } END { print k + 0 }' "$TMP/time.log" 2> /dev/null)
+      if [ -n "$pid" ] && [ "${k:-0}" -ge 1 ] && [ "${k:-0}" -lt $((STEPS - 1)) ]; then
+        v=$(awk '/^VmRSS/ {print $2}' /proc/"$pid"/status 2> /dev/null)
+        [ -n "$v" ] && [ "$v" -gt "$step_rss" ] && step_rss=$v
+      fi
+      sleep 0.1
+    done
+    wait $!
     rss=$(grep 'Maximum resident' "$TMP/time.log" | awk '{print $NF}')
     cpu=$(awk -F': ' '/User time/ {u = $2} /System time/ {s = $2} END {print u + s}' "$TMP/time.log")
-    echo "PoreSPH $mode dx $dx: $n particles, peak RSS $rss kB, held (info) $held B/particle," \
-         "CPU ${cpu} s, load $(cut -d' ' -f1 /proc/loadavg)"
+    echo "PoreSPH $mode dx $dx: $n particles, peak RSS $rss kB, RSS while stepping $step_rss kB," \
+         "held (info) $held B/particle, CPU ${cpu} s, load $(cut -d' ' -f1 /proc/loadavg)"
     echo "$n $rss" >> "$TMP/$mode.points"
+    echo "$n $step_rss" >> "$TMP/$mode.stepping"
   done
-  slope "PoreSPH $mode" < "$TMP/$mode.points"
+  slope "PoreSPH $mode, peak RSS" < "$TMP/$mode.points"
+  slope "PoreSPH $mode, RSS while stepping" < "$TMP/$mode.stepping"
 done
 
 if [ -n "${DSPH_BIN:-}" ] && [ -n "${DSPH_CASES:-}" ]; then

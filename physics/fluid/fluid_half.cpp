@@ -725,9 +725,14 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
 }
 
 std::uint64_t FluidModule::heldBytes() const {
-  return static_cast<std::uint64_t>(scatter_.bytes() + pairSum_.capacity() * sizeof(double) +
-                                    walkScratch_.bytes() +
-                                    (walkBlocks_.capacity() + walkSpill_.capacity()) * sizeof(Index));
+  // The symmetric loops' sums and spills, the cell walk's layout scratch, and the force loop's
+  // per-particle scratch (V, (p - p_ref) / rho^2, the wall density; flags of wet and receiving
+  // particles), which every fluid run holds.
+  return static_cast<std::uint64_t>(
+      scatter_.bytes() + pairSum_.capacity() * sizeof(double) + walkScratch_.bytes() +
+      (walkBlocks_.capacity() + walkSpill_.capacity()) * sizeof(Index) +
+      (vol_.capacity() + pRho2_.capacity() + wallRho_.capacity()) * sizeof(double) +
+      wetFlag_.capacity() + receives_.capacity());
 }
 
 double FluidModule::deferredBytesPerParticle(const Simulation& sim, double,
