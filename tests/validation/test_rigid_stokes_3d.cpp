@@ -1,8 +1,9 @@
 // Rigid bodies (physics/rigid, docs/rigid.md), validation case 2 of issue 15 (settling) in 3D: a
 // rigid sphere settling through a periodic simple cubic array of its images against the drag of
 // Hasimoto (1959) / Sangani & Acrivos (1982); case and reference in rigid_stokes_3d_case.hpp.
-// RIGID_STOKES3D_PROBE="perRadius cellInRadii endTime" runs one more case and prints it
-// (RIGID_STOKES3D_TRACE=1 prints U along the run).
+// RIGID_STOKES3D_PROBE="perRadius cellInRadii endTime [container]" runs one more case and prints it
+// (container 1: the closed spherical cavity of radius cellInRadii x a; RIGID_STOKES3D_TRACE=1
+// prints U along the run).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -15,12 +16,12 @@ using namespace poresph;
 
 TEST(RigidStokes3d, Probe) {
   const char* env = std::getenv("RIGID_STOKES3D_PROBE");
-  if (!env) GTEST_SKIP() << "set RIGID_STOKES3D_PROBE=\"perRadius cellInRadii endTime\"";
+  if (!env) GTEST_SKIP() << "set RIGID_STOKES3D_PROBE=\"perRadius cellInRadii endTime [container]\"";
   std::istringstream in(env);
-  int n = 3;
+  int n = 3, container = 0;
   double cell = 6.0, T = 0.05;
-  in >> n >> cell >> T;
-  test::runStokes3d(n, cell, T);
+  in >> n >> cell >> T >> container;
+  test::runStokes3d(n, cell, T, container != 0);
 }
 
 // a = 3 dx (136 particles, volume radius 3.19 dx), cell 6 a = 18 dx (5,832 particles), 0.04 s
