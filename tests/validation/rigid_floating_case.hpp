@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -55,8 +56,9 @@ health: {domain_margin: 1.0}
 /// A neutrally buoyant box (the density of the model's water at its depth) in mid-water of the
 /// tank over `endTime`: the largest distance of its centre from the start, in dx (asserted < 0.1
 /// dx and recorded under `recordName`). lid: the tank closed by a wall lid on the water (no free
-/// surface). Studies: RIGID_DX (spacing), RIGID_LEVEL, RIGID_TRACE (height, the water beside, the
-/// density excess, the force), RIGID_NOBOX (water in place of the box: how far that water moves).
+/// surface). Studies: RIGID_DX (spacing), RIGID_LEVEL, RIGID_TRACE (height, sideways offset, tilt,
+/// the water beside, the density excess, the force), RIGID_NOBOX (water in place of the box: how
+/// far that water moves), RIGID_NOROTATE (the box may not turn).
 inline void neutralDrift(double endTime, bool lid, const std::string& recordName) {
   Stopwatch clock;
   const double dx = std::getenv("RIGID_DX") ? std::atof(std::getenv("RIGID_DX")) : 0.00625;
@@ -110,7 +112,16 @@ inline void neutralDrift(double endTime, bool lid, const std::string& recordName
                 drift, drift / dx, sim.time);
     return;
   }
-  Scene s = loadSceneText(tankScene(dx, rhoB, 0.025, 0.0, endTime, level, lid), "neutral.yaml");
+  // RIGID_NOROTATE=1: the box may translate but not turn (`rotate: false`): is the sideways mode
+  // of the free-surface run (docs/rigid.md, Open) a rocking of the box?
+  std::string text = tankScene(dx, rhoB, 0.025, 0.0, endTime, level, lid);
+  if (std::getenv("RIGID_NOROTATE")) {
+    const std::string key = "damping: 0}";
+    const auto at = text.find(key);
+    if (at == std::string::npos) throw std::runtime_error("tank scene: no '" + key + "' to stop the box turning");
+    text.replace(at, key.size(), "damping: 0, rotate: false}");
+  }
+  Scene s = loadSceneText(text, "neutral.yaml");
   Simulation& sim = *s.sim;
   auto* rigid = dynamic_cast<RigidModule*>(sim.module("rigid"));
   auto integrator = makeIntegrator("leapfrog");
@@ -156,10 +167,12 @@ inline void neutralDrift(double endTime, bool lid, const std::string& recordName
       // in the stratified weakly compressible water it sets the neutral level eps c^2 / g away
       const double eps = cnt ? (rw / cnt - rhoB) / rhoB : 0.0;
       const double weight = rigid->bodies()[0].state.mass * 9.81;
-      std::printf("    t %.3f  drift %.3e  Y - Y0 %.3e  X - X0 %.3e  water beside dy %.3e  "
+      std::printf("    t %.3f  drift %.3e  Y - Y0 %.3e  X - X0 %.3e  tilt %.3e rad  F_x/W %.3e  "
+                  "water beside dy %.3e  "
                   "(rho_w - rho_b) / rho_b %.3e (neutral level %.3e m)  <F_y>/W %.3e  F_y/W %.3e\n", sim.time,
                   drift, rigid->bodies()[0].state.X[1] - X0[1],
-                  rigid->bodies()[0].state.X[0] - X0[0], cnt ? dy / cnt : 0.0, eps,
+                  rigid->bodies()[0].state.X[0] - X0[0], 2.0 * std::asin(rigid->bodies()[0].state.q.z()),
+                  rigid->bodies()[0].force[0] / weight, cnt ? dy / cnt : 0.0, eps,
                   eps * 400.0 / 9.81, fIntegral / sim.time / weight,
                   rigid->bodies()[0].force[1] / weight);
     }
