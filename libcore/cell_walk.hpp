@@ -10,8 +10,8 @@
 // same candidates in slot order, kept when |x_i - x_j| < radius (strictly), j != i and j > i
 // (every ghost: j >= nReal > i). A symmetric loop fed by row() instead of the stored list
 // therefore evaluates the same pairs in the same order, and at one thread gives the same bits
-// (tests/unit/test_cell_walk.cpp). The traversal repeats NeighbourSearch::buildDim's; the test
-// pins the two to the same rows, entry by entry.
+// (tests/unit/test_cell_walk.cpp). The traversal (CellWalk::candidates) is the one
+// NeighbourSearch::build appends through: written once.
 //
 // cellWalkBlocks() gives PairScatter (libcore/pair_scatter.hpp) its blocks without a list:
 // rows split by a per-row weight (the particles in the cell's neighbourhood, ~ its candidates)
@@ -38,83 +38,101 @@ class CellWalk {
   CellWalk(const NeighbourSearch::Grid& grid, const double* x, double radius)
       : g_(grid), x_(x), radius_(radius), r2max_(radius * radius), cell_(1.0 / grid.invCell) {}
 
-  /// Calls f(j) for every j of row i of the half list, in the half list's order (kHalf), or of
-  /// the full list (every j != i within the radius: kHalf = false).
-  template <bool kHalf = true, class F>
-  void row(Index i, F&& f) const {
-    constexpr int kMaxSpan = 64, kChunk = 64;
+  static constexpr int kMaxSpan = 64;  // rows of cells along y / z (spans are <= 5 in practice)
+  /// The block of cells around particle i: rows along z and y and their squared gaps to x_i.
+  struct Span {
+    int zlo = 0, zhi = 0, ylo = 0, yhi = 0;
     double gy2[kMaxSpan], gz2[kMaxSpan];
+  };
+  Span span(Index i) const {
+    Span sp;
+    const double* xi = x_ + i * D;
+    if (D > 2) {
+      sp.zlo = cellIndex(xi[D - 1] - radius_, D - 1), sp.zhi = cellIndex(xi[D - 1] + radius_, D - 1);
+      sp.zhi = std::min(sp.zhi, sp.zlo + kMaxSpan - 1);
+      for (int cz = sp.zlo; cz <= sp.zhi; ++cz) {
+        const double gz = gap(xi[D - 1], cz, D - 1);
+        sp.gz2[cz - sp.zlo] = gz * gz;
+      }
+    } else {
+      sp.gz2[0] = 0.0;
+    }
+    if (D > 1) {
+      sp.ylo = cellIndex(xi[1 % D] - radius_, 1 % D), sp.yhi = cellIndex(xi[1 % D] + radius_, 1 % D);
+      sp.yhi = std::min(sp.yhi, sp.ylo + kMaxSpan - 1);
+      for (int cy = sp.ylo; cy <= sp.yhi; ++cy) {
+        const double gy = gap(xi[1 % D], cy, 1 % D);
+        sp.gy2[cy - sp.ylo] = gy * gy;
+      }
+    } else {
+      sp.gy2[0] = 0.0;
+    }
+    return sp;
+  }
+  /// Particles in the whole block of cells of `sp`: room for every candidate of its row.
+  Index candidateBound(const Span& sp) const {
+    const int dimsX = g_.dims[0], dimsY = g_.dims[1];
+    const Index first = g_.cellStart[(static_cast<Index>(sp.zlo) * dimsY + sp.ylo) * dimsX];
+    const Index last = g_.cellStart[(static_cast<Index>(sp.zhi) * dimsY + sp.yhi) * dimsX + dimsX];
+    return last - first;
+  }
+  /// visit(j, r2) for every candidate j of particle i in slot order: the rows of cells of `sp`
+  /// within the radius, each cut along x to the cells within sqrt(r^2 - gap^2) of x_i (the
+  /// traversal of NeighbourSearch::build, which appends through it, and of row()).
+  template <class V>
+  void candidates(Index i, const Span& sp, V&& visit) const {
     const double* xi = x_ + i * D;
     const double* xs = g_.xs;
     const Index* sorted = g_.sorted;
     const Index* cellStart = g_.cellStart;
-    const double radius = radius_, r2max = r2max_;
-    int zlo = 0, zhi = 0, ylo = 0, yhi = 0;
-    if (D > 2) {
-      zlo = cellIndex(xi[D - 1] - radius, D - 1), zhi = cellIndex(xi[D - 1] + radius, D - 1);
-      zhi = std::min(zhi, zlo + kMaxSpan - 1);
-      for (int cz = zlo; cz <= zhi; ++cz) {
-        const double gz = gap(xi[D - 1], cz, D - 1);
-        gz2[cz - zlo] = gz * gz;
-      }
-    } else {
-      gz2[0] = 0.0;
-    }
-    if (D > 1) {
-      ylo = cellIndex(xi[1 % D] - radius, 1 % D), yhi = cellIndex(xi[1 % D] + radius, 1 % D);
-      yhi = std::min(yhi, ylo + kMaxSpan - 1);
-      for (int cy = ylo; cy <= yhi; ++cy) {
-        const double gy = gap(xi[1 % D], cy, 1 % D);
-        gy2[cy - ylo] = gy * gy;
-      }
-    } else {
-      gy2[0] = 0.0;
-    }
+    const double r2max = r2max_;
     const int dimsX = g_.dims[0], dimsY = g_.dims[1];
     const double ox = g_.origin[0], invCell = g_.invCell, margin = g_.margin;
     const double xi0 = xi[0];
-    for (int cz = zlo; cz <= zhi; ++cz) {
-      const double gzz = gz2[cz - zlo];
+    for (int cz = sp.zlo; cz <= sp.zhi; ++cz) {
+      const double gzz = sp.gz2[cz - sp.zlo];
       if (gzz >= r2max) continue;
-      for (int cy = ylo; cy <= yhi; ++cy) {
-        const double g2 = gzz + gy2[cy - ylo];
+      for (int cy = sp.ylo; cy <= sp.yhi; ++cy) {
+        const double g2 = gzz + sp.gy2[cy - sp.ylo];
         if (g2 >= r2max) continue;
         const double ext = std::sqrt(r2max - g2) * (1.0 + 1e-12) + margin;
         const double flo = (xi0 - ext - ox) * invCell, fhi = (xi0 + ext - ox) * invCell;
         const int xlo = flo <= 0.0 ? 0 : static_cast<int>(flo);
         const int xhi = fhi >= dimsX - 1 ? dimsX - 1 : static_cast<int>(fhi);
+        // Cells xlo..xhi of a row are contiguous in the sorted order: one range per row.
         const Index rowBase = (static_cast<Index>(cz) * dimsY + cy) * dimsX;
         const Index jb = cellStart[rowBase + xlo];
         const Index je = cellStart[rowBase + xhi + 1];
-        // Branch-free append of the kept candidates into a small buffer (as the search's
-        // build), then the calls: the test costs no mispredicted branch per candidate.
-        for (Index s0 = jb; s0 < je; s0 += kChunk) {
-          const Index s1 = std::min(je, s0 + kChunk);
-          Index kept[kChunk];
-          int m = 0;
-          for (Index s = s0; s < s1; ++s) {
-            double r2 = 0.0;
-            for (int a = 0; a < D; ++a) {
-              const double dx = xi[a] - xs[s * D + a];
-              r2 += dx * dx;
-            }
-            const Index j = sorted[s];
-            kept[m] = j;
-            m += static_cast<int>((r2 < r2max) & (kHalf ? j > i : j != i));
+        for (Index s = jb; s < je; ++s) {
+          double r2 = 0.0;
+          for (int a = 0; a < D; ++a) {
+            const double dx = xi[a] - xs[s * D + a];
+            r2 += dx * dx;
           }
-          for (int q = 0; q < m; ++q) f(kept[q]);
+          visit(sorted[s], r2);
         }
       }
     }
   }
 
+  /// Calls f(j) for every j of row i of the half list, in the half list's order (kHalf), or of
+  /// the full list (every j != i within the radius: kHalf = false).
+  template <bool kHalf = true, class F>
+  void row(Index i, F&& f) const {
+    const double r2max = r2max_;
+    candidates(i, span(i), [&](Index j, double r2) {
+      if (r2 < r2max && (kHalf ? j > i : j != i)) f(j);
+    });
+  }
+
  private:
   int cellIndex(double v, int a) const {
     const double fr = (v - g_.origin[a]) * g_.invCell;
-    if (!(fr >= 0.0)) return 0;
+    if (!(fr >= 0.0)) return 0;  // also catches -inf
     if (fr >= static_cast<double>(g_.dims[a] - 1)) return g_.dims[a] - 1;
     return static_cast<int>(fr);
   }
+  // Distance from v to cell c along axis a (zero inside), lowered by the round-off guard.
   double gap(double v, int c, int a) const {
     const double lo = g_.origin[a] + c * cell_, hi = lo + cell_;
     const double gg = v < lo ? lo - v : (v > hi ? v - hi : 0.0);

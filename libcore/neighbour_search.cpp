@@ -1,5 +1,7 @@
 #include "libcore/neighbour_search.hpp"
 
+#include "libcore/cell_walk.hpp"
+
 #include <omp.h>
 
 #include <algorithm>
@@ -116,11 +118,7 @@ void NeighbourSearch::buildDim(const double* x, Index nReal, Index nTotal, doubl
   // width instead of (2 radius) for cells of one radius; rows are then pruned to the sphere.
   sortIntoCells<D>(x, nTotal, kCellFraction * radius);
   const double r2max = radius * radius;
-  const double cell = 1.0 / invCell_;
   copySortedPositions<D>(x, nTotal);
-  const double* xs = xs_.data();
-  const Index* sorted = sorted_.data();
-  const Index* cellStart = cellStart_.data();
 
   const int nThreads = omp_get_max_threads();
   if (static_cast<int>(threadIndex_.size()) < nThreads) {
@@ -134,18 +132,9 @@ void NeighbourSearch::buildDim(const double* x, Index nReal, Index nTotal, doubl
   regionUsed_.assign(static_cast<size_t>(nThreads), 0);
   if (prevChunk_.size() < static_cast<size_t>(nThreads)) prevChunk_.resize(static_cast<size_t>(nThreads), 0);
   bool anyOverflow = false;
-  auto cellIndex = [&](double v, int a) {
-    const double f = (v - origin_[a]) * invCell_;
-    if (!(f >= 0.0)) return 0;  // also catches -inf
-    if (f >= static_cast<double>(dims_[a] - 1)) return dims_[a] - 1;
-    return static_cast<int>(f);
-  };
-  // Distance from v to cell c along axis a (zero inside), lowered by the round-off guard.
-  auto gap = [&](double v, int c, int a) {
-    const double lo = origin_[a] + c * cell, hi = lo + cell;
-    const double g = v < lo ? lo - v : (v > hi ? v - hi : 0.0);
-    return std::max(0.0, g - margin_);
-  };
+  // The traversal is the cell walk's (libcore/cell_walk.hpp): the same rows of cells, pruned
+  // to the sphere, in slot order; here every candidate is appended and kept when inside.
+  const CellWalk<D> walk(grid(), x, radius);
 #pragma omp parallel num_threads(nThreads)
   {
     const int t = omp_get_thread_num();
@@ -176,41 +165,13 @@ void NeighbourSearch::buildDim(const double* x, Index nReal, Index nTotal, doubl
     std::size_t regionUsed = 0;
     std::size_t used = 0;  // entries written at dst (region first, then the overflow buffer)
     std::size_t total = 0; // entries of this thread so far, region + overflow
-    // Per-particle squared gaps to the rows of cells along y and z (at most a few cells each).
-    constexpr int kMaxSpan = 64;
-    double gy2[kMaxSpan], gz2[kMaxSpan];
-    const int dimsX = dims_[0], dimsY = dims_[1];
-    const double ox = origin_[0];
     for (Index i = i0; i < i1; ++i) {
-      const double* xi = x + i * D;
       // Smallest index kept, minus one: j > i for a half list, every j != i otherwise.
       const Index jFloor = half ? i : Index(-1);
-      int zlo = 0, zhi = 0, ylo = 0, yhi = 0;
-      if (D > 2) {
-        zlo = cellIndex(xi[D - 1] - radius, D - 1), zhi = cellIndex(xi[D - 1] + radius, D - 1);
-        zhi = std::min(zhi, zlo + kMaxSpan - 1);  // spans are <= 2 radius / cell + 1 = 5
-        for (int cz = zlo; cz <= zhi; ++cz) {
-          const double g = gap(xi[D - 1], cz, D - 1);
-          gz2[cz - zlo] = g * g;
-        }
-      } else {
-        gz2[0] = 0.0;
-      }
-      if (D > 1) {
-        ylo = cellIndex(xi[1 % D] - radius, 1 % D), yhi = cellIndex(xi[1 % D] + radius, 1 % D);
-        yhi = std::min(yhi, ylo + kMaxSpan - 1);
-        for (int cy = ylo; cy <= yhi; ++cy) {
-          const double g = gap(xi[1 % D], cy, 1 % D);
-          gy2[cy - ylo] = g * g;
-        }
-      } else {
-        gy2[0] = 0.0;
-      }
+      const typename CellWalk<D>::Span sp = walk.span(i);
       // Room for every candidate of this particle: all particles of the block of cells.
       {
-        const Index first = cellStart[(static_cast<Index>(zlo) * dimsY + ylo) * dimsX];
-        const Index last = cellStart[(static_cast<Index>(zhi) * dimsY + yhi) * dimsX + dimsX];
-        const std::size_t need = static_cast<std::size_t>(last - first);
+        const std::size_t need = static_cast<std::size_t>(walk.candidateBound(sp));
         if (inRegion && used + need > cap) {  // region full: continue in the overflow buffer
           inRegion = false;
           regionUsed = used;
@@ -225,35 +186,11 @@ void NeighbourSearch::buildDim(const double* x, Index nReal, Index nTotal, doubl
         if (!inRegion) dst = idx.data();
       }
       const std::size_t start = used;
-      const double xi0 = xi[0];
-      for (int cz = zlo; cz <= zhi; ++cz) {
-        const double gzz = gz2[cz - zlo];
-        if (gzz >= r2max) continue;
-        for (int cy = ylo; cy <= yhi; ++cy) {
-          const double g2 = gzz + gy2[cy - ylo];
-          if (g2 >= r2max) continue;
-          // Along x only the cells within sqrt(r^2 - g^2) of x_i can hold a neighbour.
-          const double ext = std::sqrt(r2max - g2) * (1.0 + 1e-12) + margin_;
-          double flo = (xi0 - ext - ox) * invCell_, fhi = (xi0 + ext - ox) * invCell_;
-          const int xlo = flo <= 0.0 ? 0 : static_cast<int>(flo);
-          const int xhi = fhi >= dimsX - 1 ? dimsX - 1 : static_cast<int>(fhi);
-          // Cells xlo..xhi of a row are contiguous in the sorted order: one range per row.
-          const Index rowBase = (static_cast<Index>(cz) * dimsY + cy) * dimsX;
-          const Index jb = cellStart[rowBase + xlo];
-          const Index je = cellStart[rowBase + xhi + 1];
-          // Branch-free append: write every candidate, keep it when inside the radius.
-          for (Index s = jb; s < je; ++s) {
-            double r2 = 0.0;
-            for (int a = 0; a < D; ++a) {
-              const double dx = xi[a] - xs[s * D + a];
-              r2 += dx * dx;
-            }
-            const Index j = sorted[s];
-            dst[used] = static_cast<std::uint32_t>(j);
-            used += static_cast<std::size_t>((r2 < r2max) & (j != i) & (j > jFloor));
-          }
-        }
-      }
+      // Branch-free append: write every candidate, keep it when inside the radius.
+      walk.candidates(i, sp, [&](Index j, double r2) {
+        dst[used] = static_cast<std::uint32_t>(j);
+        used += static_cast<std::size_t>((r2 < r2max) & (j != i) & (j > jFloor));
+      });
       cnt.push_back(static_cast<std::int64_t>(used - start));
       total += used - start;
     }
