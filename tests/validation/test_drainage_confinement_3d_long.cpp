@@ -27,45 +27,13 @@
 
 #include "libcore/runner.hpp"
 #include "libcore/scene.hpp"
+#include "tests/support/timeseries_table.hpp"
 #include "tests/support/validation_record.hpp"
 
 using namespace poresph;
 namespace fsys = std::filesystem;
 
 namespace {
-
-struct Series {
-  std::vector<std::map<std::string, double>> rows;
-  /// Linear interpolation of a column between the output rows (every 0.5 ms).
-  double at(const std::string& col, double t) const {
-    for (size_t k = 1; k < rows.size(); ++k) {
-      const double t0 = rows[k - 1].at("time"), t1 = rows[k].at("time");
-      if (t <= t1 + 1e-12) {
-        const double w = t1 > t0 ? std::clamp((t - t0) / (t1 - t0), 0.0, 1.0) : 1.0;
-        return (1.0 - w) * rows[k - 1].at(col) + w * rows[k].at(col);
-      }
-    }
-    return NAN;
-  }
-};
-
-Series readSeries(const std::string& csv) {
-  std::ifstream in(csv);
-  std::string line;
-  std::getline(in, line);
-  std::vector<std::string> names;
-  std::stringstream hs(line);
-  for (std::string c; std::getline(hs, c, ',');) names.push_back(c);
-  Series s;
-  while (std::getline(in, line)) {
-    std::stringstream ls(line);
-    std::map<std::string, double> row;
-    size_t k = 0;
-    for (std::string c; std::getline(ls, c, ',') && k < names.size(); ++k) row[names[k]] = std::stod(c);
-    s.rows.push_back(row);
-  }
-  return s;
-}
 
 struct Case {
   double stress = 0.0, percolation = -1.0, porosityChange = NAN, damaged = NAN, damaged6 = NAN;
@@ -97,18 +65,18 @@ Case run(double stress) {
   test::Stopwatch clock;
   const RunResult r = runScene(scene, options);
   EXPECT_EQ(r.status, RunStatus::Finished) << stress << ": " << r.message;
-  const Series s = readSeries(options.outDir + "/timeseries.csv");
+  const test::TimeseriesTable s = test::readTimeseries(options.outDir + "/timeseries.csv");
   Case c;
   c.stress = stress;
   c.wall = clock.seconds();
   c.percolation = s.rows.back().at("drainage_percolation_time");
-  c.damaged6 = s.at("drainage_damaged_fraction", 0.006);
+  c.damaged6 = s.interpolated("drainage_damaged_fraction", 0.006);
   if (c.percolation > 0.0) {
-    c.porosityChange = s.at("drainage_porosity", c.percolation) - s.rows.front().at("drainage_porosity");
-    c.damaged = s.at("drainage_damaged_fraction", c.percolation);
-    c.gasSaturation = s.at("drainage_gas_saturation", c.percolation);
-    c.front = s.at("plate0_displacement", c.percolation);
-    c.back = s.at("plate1_displacement", c.percolation);
+    c.porosityChange = s.interpolated("drainage_porosity", c.percolation) - s.rows.front().at("drainage_porosity");
+    c.damaged = s.interpolated("drainage_damaged_fraction", c.percolation);
+    c.gasSaturation = s.interpolated("drainage_gas_saturation", c.percolation);
+    c.front = s.interpolated("plate0_displacement", c.percolation);
+    c.back = s.interpolated("plate1_displacement", c.percolation);
   }
   return c;
 }

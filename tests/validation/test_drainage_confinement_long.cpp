@@ -22,46 +22,13 @@
 
 #include "libcore/runner.hpp"
 #include "libcore/scene.hpp"
+#include "tests/support/timeseries_table.hpp"
 #include "tests/support/validation_record.hpp"
 
 using namespace poresph;
 namespace fsys = std::filesystem;
 
 namespace {
-
-struct Series {
-  std::vector<std::map<std::string, double>> rows;
-  double at(const std::string& col, double t) const {  // value of the last row with time <= t
-    double v = NAN;
-    for (const auto& r : rows)
-      if (r.at("time") <= t + 1e-9) v = r.at(col);
-    return v;
-  }
-  double max(const std::string& col) const {
-    double v = -INFINITY;
-    for (const auto& r : rows) v = std::max(v, r.at(col));
-    return v;
-  }
-};
-
-Series readSeries(const std::string& csv) {
-  std::ifstream in(csv);
-  std::string line;
-  std::getline(in, line);
-  std::vector<std::string> names;
-  std::stringstream hs(line);
-  for (std::string c; std::getline(hs, c, ',');) names.push_back(c);
-  Series s;
-  while (std::getline(in, line)) {
-    std::stringstream ls(line);
-    std::map<std::string, double> row;
-    size_t k = 0;
-    for (std::string c; std::getline(ls, c, ',') && k < names.size(); ++k)
-      row[names[k]] = std::stod(c);
-    s.rows.push_back(row);
-  }
-  return s;
-}
 
 struct Case {
   double stress = 0.0, percolation = -1.0, porosityChange = 0.0, damaged = 0.0;
@@ -97,7 +64,7 @@ Case run(double stress, const std::string& law = "", const std::string& tag = ""
   test::Stopwatch clock;
   const RunResult r = runScene(scene, options);
   EXPECT_EQ(r.status, RunStatus::Finished) << stress << ": " << r.message;
-  const Series s = readSeries(options.outDir + "/timeseries.csv");
+  const test::TimeseriesTable s = test::readTimeseries(options.outDir + "/timeseries.csv");
   Case c;
   c.stress = stress;
   c.wall = clock.seconds();
