@@ -3,7 +3,8 @@
 // PORESPH_PLATE=dx,2h,u,ramp,damping,hourglass,law,Yc0 is set; PORESPH_PLATE_BOTTOM,
 // PORESPH_PLATE_DUMP, PORESPH_PLATE_STEPS, PORESPH_PLATE_THRESHOLD = onset D, PORESPH_PLATE_DT = dt / step limit,
 // PORESPH_PLATE_AV = alpha,beta of the artificial viscosity, PORESPH_PLATE_CROSS = D,depth in dx
-// of the crossing measure, PORESPH_PLATE_COMMIT = step_end or evaluation, default evaluation) is the driver of the studies quoted in docs/damage.md.
+// of the crossing measure, PORESPH_PLATE_COMMIT = step_end or evaluation, default evaluation, PORESPH_PLATE_RECORD = case name of
+// validation records of the run) is the driver of the studies quoted in docs/damage.md.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -38,12 +39,45 @@ TEST(DamagePlate, Explore) {
   if (const char* c = std::getenv("PORESPH_PLATE_COMMIT")) s.damageCommit = c;
   if (lawName == "none") s.law.clear();
   const PlateResult r = runPlate(s);
-  std::printf("dx %g 2h %g u %g ramp %g damp %g hg %g %s: %ld particles %ld steps, onset u = %.2f um at "
-              "(%.1f, %.1f) mm, crossing %.2f um, asym %.3f, width %.1f mm (crossing %.1f), Dmax %.3f, diss %.3g, "
-              "balance %.3g, clipped %ld, %.1f s\n",
+  std::printf("dx %g 2h %g u %g ramp %g damp %g hg %g %s: %ld particles %ld steps (dt %.4g s), onset u = %.2f um at "
+              "(%.1f, %.1f) mm, onset D >= %g u = %.2f um at (%.1f, %.1f) mm, crossing %.2f um, asym %.3f, "
+              "width %.1f mm (crossing %.1f), Dmax %.3f, diss %.3g, balance %.3g, clipped %ld, %.1f s\n",
               s.dx, s.support, s.uMax, s.rampCrossings, s.damping, s.hourglass, s.law.c_str(),
-              r.particles, r.steps, 1e6 * r.uOnset, 1e3 * r.xOnset, 1e3 * r.yOnset, 1e6 * r.uCross,
+              r.particles, r.steps, r.dt, 1e6 * r.uOnset, 1e3 * r.xOnset, 1e3 * r.yOnset, s.lowThreshold,
+              1e6 * r.uOnsetLow, 1e3 * r.xOnsetLow, 1e3 * r.yOnsetLow, 1e6 * r.uCross,
               r.asymmetry, 1e3 * r.width, 1e3 * r.widthCross, r.dmax, r.dissipated, r.balance, r.clipped, r.wall);
+  // PORESPH_PLATE_RECORD=<case>: the run's numbers as validation records (docs/validation.md) for
+  // the resolutions the suite cannot afford (docs/damage.md "The plate at 200 / 300 points").
+  // AT-2 tension: onset and crossing beside the thesis' 17.4 / 19.8 um (Sec. 4.3.2.1, Fig. 4.14).
+  const char* rec = std::getenv("PORESPH_PLATE_RECORD");
+  if (!rec) return;
+  char res[300];
+  std::snprintf(res, sizeof res,
+                "%d x %d points (dx = %g mm), 2h = %g mm, TL, hourglass %g, damping %g/s, dt %g x Eq. 2.50, "
+                "ramp %g um per L/c_p, bottom %s, damage_commit: %s (DamagePlate.Explore)",
+                static_cast<int>(std::lround(0.3 / s.dx)), static_cast<int>(std::lround(0.3 / s.dx)), 1e3 * s.dx,
+                1e3 * s.support, s.hourglass, s.damping, s.dtFactor, 1e6 * std::abs(s.uMax) / s.rampCrossings,
+                s.clampBottom ? "held" : "free", s.damageCommit.c_str());
+  const bool tension = s.uMax > 0.0;
+  const double thOnset = tension ? 17.4 : 24.0, thCross = tension ? 19.8 : 27.8;
+  const std::string src = "thesis Sec. 4.3.2.1, Fig. 4.14 (300 x 300 points, 2h = 5 mm)";
+  auto rel = [](double m, double ref) { return std::abs(m - ref) / std::abs(ref); };
+  const double on = 1e6 * std::abs(r.uOnset), low = 1e6 * std::abs(r.uOnsetLow), cr = 1e6 * std::abs(r.uCross);
+  char q[120];
+  std::snprintf(q, sizeof q, "imposed displacement at onset, first D >= %g [um]", s.threshold);
+  test::recordValidation({rec, q, on, thOnset, rel(on, thOnset), res, r.wall, "recorded (run by hand)", src});
+  std::snprintf(q, sizeof q, "imposed displacement at onset, first D >= %g [um]", s.lowThreshold);
+  test::recordValidation({rec, q, low, thOnset, rel(low, thOnset), res, r.wall, "recorded (run by hand)", src});
+  test::recordValidation({rec, "imposed displacement at full crossing [um]", cr, thCross, rel(cr, thCross), res,
+                          r.wall, "recorded (run by hand)", src});
+  std::snprintf(q, sizeof q, "damaged width (D >= %g) across the crack at crossing / 2h", s.threshold);
+  test::recordValidation({rec, q, r.widthCross / s.support, 1.0,
+                          rel(r.widthCross / s.support, 1.0), res, r.wall, "recorded (run by hand)",
+                          "thesis Fig. 4.14c (width ~ 2h); issue 13 item 4"});
+  test::recordValidation({rec, "left-right asymmetry of D", r.asymmetry, 0.0, r.asymmetry, res, r.wall,
+                          "recorded (run by hand)", "thesis Sec. 4.3.2.1 (symmetric pattern)"});
+  test::recordValidation({rec, "energy balance residual / boundary work", r.balance, 0.0, r.balance, res, r.wall,
+                          "recorded (run by hand)", "Eqs. 4.25-4.26 with the boundary work"});
 }
 
 // Coarse plate (dx = 5 mm, 2h = 12.5 mm, 60 x 60 points), AT-2 in tension, the bottom layer
