@@ -5,8 +5,10 @@
 //    SPH volume sum m / rho and the tank width, since the body displaces water as it sinks);
 //  - a neutrally buoyant box (the density of the model's water at its depth) in mid-water stays
 //    put: drift < 0.1 dx over 1 s (measured 0.025 dx; the 10 s in a closed tank:
-//    test_rigid_floating_long.cpp, 0.034 dx; with the free surface 0.174 dx, docs/rigid.md).
-// Studies: RIGID_DX (spacing), RIGID_T, RIGID_LEVEL, RIGID_LID and RIGID_NOBOX (neutral case),
+//    test_rigid_floating_long.cpp, 0.034 dx; with the free surface 0.174 dx on this test's
+//    Wendland C2, whose square lattice is unstable under the hydrostatic pressure, and
+//    0.0017 dx on the quintic spline, docs/fluid.md "Water at rest on the lattice").
+// Studies: RIGID_DX (spacing), RIGID_T, RIGID_LEVEL, RIGID_LID, RIGID_NOBOX and RIGID_KERNEL (neutral case),
 // RIGID_TRACE (progress); see rigid_floating_case.hpp.
 // The body feels the water only through the fluid-rigid pairs (extrapolated boundary pressure and
 // the shared pair terms, reaction on the body particles) and its own gravity.
