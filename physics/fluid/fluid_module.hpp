@@ -136,6 +136,9 @@ class FluidModule : public Module {
   /// Position correction: XSPH (2.66) plus particle shifting, a second rate of the positions;
   /// registered only with xsph > 0 or shifting > 0.
   RealField positionCorrection;
+  // Wall normal of fixed walls from a kernel of twice the smoothing length (option
+  // wall_normal: wide; computed once in initialise, issue 14 "Wetting on real walls").
+  RealField wallNormal;
   IntField interface;
 
  private:
@@ -162,6 +165,7 @@ class FluidModule : public Module {
   /// Widest per-particle sum of the symmetric loops (the scatter is sized for it at each layout).
   int halfWidth(int d) const;
   template <int D> void kinematicsD(Simulation& sim);
+  template <int D> void computeWallNormalsD(Simulation& sim);
   template <int D> void constitutiveD(Simulation& sim);
   template <int D> void forcesD(Simulation& sim);
   // The same sums on a half neighbour list, each pair evaluated once and added to both
@@ -204,6 +208,7 @@ class FluidModule : public Module {
   bool wettingNormal_ = true;       // wetting: normal (prescribed contact-line normal near walls)
   double wettingScale_ = 0.15;      // wall Shepard fraction at which the normal is fully prescribed
   bool wettingGhost_ = false;       // wetting_ghost: walls' ghost colour completes |n| at the contact line
+  bool wideWallNormal_ = false;     // wall_normal: wide (fixed walls' normal over 2h, set-up)
   double densityDiffusion_ = 0.0;   // delta of the Molteni-Colagrossi term (0: off)
   bool normaliseViscosity_ = true;  // divide 5.4 by the discrete second moment
   double artificialViscosity_ = 0.0;  // alpha of Eq. 2.64 (0: off)
