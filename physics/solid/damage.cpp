@@ -62,8 +62,8 @@ void ElasticSolidModule::commitDamageDim(Simulation& sim) {
   const std::array<double, 3> L = period_;
   auto minimumImage = [&](Vec<D> d) {
     for (int a = 0; a < D; ++a)
-      if (L[static_cast<size_t>(a)] > 0.0)
-        d[a] -= L[static_cast<size_t>(a)] * std::round(d[a] / L[static_cast<size_t>(a)]);
+      if (L[static_cast<size_t>(a)] > 0.0 && std::abs(d[a]) >= 0.25 * L[static_cast<size_t>(a)])
+        d[a] -= L[static_cast<size_t>(a)] * std::round(d[a] / L[static_cast<size_t>(a)]);  // |d| < L/4: 0
     return d;
   };
 #pragma omp parallel for schedule(static) reduction(+ : clipped) if (n > 512)
@@ -85,7 +85,7 @@ void ElasticSolidModule::commitDamageDim(Simulation& sim) {
     const double d0 = dmg[i];
     const DamageUpdate u = law.update<D>(E, d0, h);
     dmg[i] = u.D;
-    double phiNow = law.psiPlus(law.split<D>(E));
+    double phiNow = u.psiPlus;  // psi+ of E (the split update() made)
     const ElasticMaterial& e = mats_[static_cast<size_t>(k)];
     if (hg && e.hourglass > 0.0 && (commitAtEvaluation_ || u.D > d0)) {
       const Mat<D> Fi = Eigen::Map<const Mat<D>>(F + i * D * D);

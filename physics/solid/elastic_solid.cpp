@@ -773,6 +773,20 @@ void ElasticSolidModule::rebuildIdMap(const Simulation& sim) {
   for (Index i = 0; i < n; ++i) idToIndex_[static_cast<size_t>(ids[i])] = i;
 }
 
+void ElasticSolidModule::refreshReferenceVolumes(const Simulation& sim) {
+  const ParticleStore& s = sim.store;
+  const Index n = s.realCount();
+  const std::int32_t* mat = s.data(s.material());
+  const double* m = s.data(s.mass());
+  if (refVolume_.size() < static_cast<size_t>(n)) refVolume_.resize(static_cast<size_t>(n));
+  double* V0 = refVolume_.data();
+#pragma omp parallel for schedule(static) if (n > 512)
+  for (Index i = 0; i < n; ++i) {
+    const int k = slotOf(mat[i]);
+    V0[i] = k < 0 ? 0.0 : m[i] / mats_[static_cast<size_t>(k)].density;
+  }
+}
+
 template <int D>
 void ElasticSolidModule::applyMirrors(Simulation& sim) {
   ParticleStore& s = sim.store;
@@ -859,7 +873,9 @@ void ElasticSolidModule::kinematicsDim(Simulation& sim) {
     const std::int64_t* off = famOffset_.data();
     const double* G = famG_.data();
     double* F = s.data(defGrad_);
-    const double* m = s.data(s.mass());
+    refreshReferenceVolumes(sim);
+    const double* V0 = refVolume_.data();
+    const Index* idx = idToIndex_.data();
     Index bad = n;
 #pragma omp parallel for schedule(static) reduction(min : bad) if (n > 512)
     for (Index i = 0; i < n; ++i) {
@@ -867,8 +883,8 @@ void ElasticSolidModule::kinematicsDim(Simulation& sim) {
       const Vec<D> ui = Eigen::Map<const Vec<D>>(u + i * D);
       Mat<D> Fi = Mat<D>::Identity();
       for (std::int64_t q = off[row[i]]; q < off[row[i] + 1]; ++q) {
-        const Index j = idToIndex_[static_cast<size_t>(fam[q])];
-        const double Vj = m[j] / mats_[static_cast<size_t>(slotOf(mat[j]))].density;
+        const Index j = idx[fam[q]];
+        const double Vj = V0[j];  // m_j / rho0_j
         const Vec<D> g = Eigen::Map<const Vec<D>>(G + q * D);
         Fi.noalias() += Vj * (Eigen::Map<const Vec<D>>(u + j * D) - ui) * g.transpose();  // 2.67
       }
@@ -1075,13 +1091,35 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
     // particle ids, not images)
     const std::array<double, 3> L = period_;
     const bool periodic = L[0] > 0.0 || L[1] > 0.0 || L[2] > 0.0;
+    // |d| < L/4: round(d / L) = 0 and the shift is 0, so the rounding is skipped (same values)
     auto minimumImage = [&](Vec<D> d) {
       if (periodic)
         for (int a = 0; a < D; ++a)
-          if (L[static_cast<size_t>(a)] > 0.0)
+          if (L[static_cast<size_t>(a)] > 0.0 && std::abs(d[a]) >= 0.25 * L[static_cast<size_t>(a)])
             d[a] -= L[static_cast<size_t>(a)] * std::round(d[a] / L[static_cast<size_t>(a)]);
       return d;
     };
+    // per-particle factors of the member loops, once per evaluation: V0 = m / rho0 and the
+    // hourglass share alpha E g(D) (hourglassShare; the pair's stiffness is their mean)
+    refreshReferenceVolumes(sim);
+    const double* V0 = refVolume_.data();
+    const Index* idx = idToIndex_.data();
+    const double* hgK = nullptr;
+    if (anyHourglass_) {
+      if (hgShare_.size() < static_cast<size_t>(n)) hgShare_.resize(static_cast<size_t>(n));
+      double* share = hgShare_.data();
+#pragma omp parallel for schedule(static) if (n > 512)
+      for (Index i = 0; i < n; ++i) {
+        const int k = slotOf(mat[i]);
+        if (k < 0) {
+          share[i] = 0.0;
+          continue;
+        }
+        const ElasticMaterial& e = mats_[static_cast<size_t>(k)];
+        share[i] = hourglassShare(e, gOf(e, i));
+      }
+      hgK = share;
+    }
     // Conservative hourglass control (docs/solid.md "Hourglass control"): the penalty energy
     //   Phi = 1/4 sum_a sum_b c_ab |r_ab|^2,  r_ab = x_ab - (F_a + F_b)/2 X_ab  (x_ab = x_b - x_a),
     //   c_ab = k_ab V_a V_b W0_ab / |X_ab|^2,  k_ab = (hourglass_a E_a g_a + hourglass_b E_b g_b)/2
@@ -1101,6 +1139,7 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
       double* Q = hgScratch_.data();
       double* fd = Q + static_cast<size_t>(n) * D * D;
       double* phi = s.data(hgEnergy_);
+      W.withFixedType<D>([&](const auto K) {  // the kernel type fixed for the member loop
 #pragma omp parallel for schedule(static) if (n > 512)
       for (Index i = 0; i < n; ++i) {
         const int k = slotOf(mat[i]);
@@ -1108,22 +1147,21 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
           phi[i] = 0.0;
           continue;
         }
-        const ElasticMaterial& e = mats_[static_cast<size_t>(k)];
         const Mat<D> Fi = Eigen::Map<const Mat<D>>(Fg + i * D * D);
         const Vec<D> Xi = Eigen::Map<const Vec<D>>(X + i * D);
         const Vec<D> xi = Eigen::Map<const Vec<D>>(x + i * D);
+        const double ki = hgK[i];
         Mat<D> M = Mat<D>::Zero();
         Vec<D> direct = Vec<D>::Zero();
         double e2 = 0.0;
         for (std::int64_t q = off[row[i]]; q < off[row[i] + 1]; ++q) {
-          const Index j = idToIndex_[static_cast<size_t>(fam[q])];
-          const ElasticMaterial& ej = mats_[static_cast<size_t>(slotOf(mat[j]))];
-          const double kab = hourglassPairStiffness(e, gOf(e, i), ej, gOf(ej, j));
+          const Index j = idx[fam[q]];
+          const double kab = hourglassPairStiffness(ki, hgK[j]);
           if (kab == 0.0) continue;
           const Vec<D> Xji = minimumImage(Vec<D>(Eigen::Map<const Vec<D>>(X + j * D) - Xi));
           const Vec<D> xji = minimumImage(Vec<D>(Eigen::Map<const Vec<D>>(x + j * D) - xi));
           const double r0 = Xji.norm();
-          const double c = kab * (m[j] / ej.density) * W.value(r0) / (r0 * r0);
+          const double c = kab * V0[j] * K.value(r0) / (r0 * r0);
           const Vec<D> res = xji - 0.5 * (Fi + Eigen::Map<const Mat<D>>(Fg + j * D * D)) * Xji;
           M.noalias() += c * res * Xji.transpose();
           direct.noalias() += c * res;
@@ -1133,6 +1171,7 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
         Eigen::Map<Vec<D>>(fd + i * D) = direct;
         phi[i] = 0.25 * e2;
       }
+      });
       Pf = Q;
       hgDirect = fd;
     }
@@ -1152,9 +1191,8 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
       Mat<D> Fdot = Mat<D>::Zero();
       const bool av = e.avAlpha > 0.0 || e.avBeta > 0.0;
       for (std::int64_t q = off[row[i]]; q < off[row[i] + 1]; ++q) {
-        const Index j = idToIndex_[static_cast<size_t>(fam[q])];
-        const ElasticMaterial& ej = mats_[static_cast<size_t>(slotOf(mat[j]))];
-        const double Vj = m[j] / ej.density;
+        const Index j = idx[fam[q]];
+        const double Vj = V0[j];  // m_j / rho0_j
         const Vec<D> g = Eigen::Map<const Vec<D>>(G + q * D);
         const Vec<D> gr = Eigen::Map<const Vec<D>>(
             revSlot ? G + (off[row[j]] + revSlot[q]) * D : GR + q * D);
@@ -1163,6 +1201,7 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
         const Vec<D> vji = Eigen::Map<const Vec<D>>(v + j * D) - vi;
         Fdot.noalias() += Vj * vji * g.transpose();  // 2.68
         if (av) {
+          const ElasticMaterial& ej = mats_[static_cast<size_t>(slotOf(mat[j]))];
           const Vec<D> rij = minimumImage(Vec<D>(xi - Eigen::Map<const Vec<D>>(x + j * D)));
           const double Pi_ab = viscosity(e, ej, -vji, rij, rho[i], rho[j]);
           fav.noalias() -= m[j] * Pi_ab * 0.5 * (g - gr);  // antisymmetrised reference gradient
@@ -1180,8 +1219,7 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
             const double dA = (Fi * Xji - xji).dot(ev);    // a's prediction error for b
             const double dB = (Fj * (-Xji) + xji).dot(-ev);  // b's prediction error for a
             const double r0 = Xji.norm();
-            const double coef =
-                hourglassPairStiffness(e, gOf(e, i), ej, gOf(ej, j)) * Vj * W.value(r0) / (r0 * r0);
+            const double coef = hourglassPairStiffness(hgK[i], hgK[j]) * Vj * W.value(r0) / (r0 * r0);
             fhg.noalias() -= coef * 0.5 * (dA + dB) * ev;
           }
         }

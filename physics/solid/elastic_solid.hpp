@@ -197,10 +197,10 @@ class ElasticSolidModule : public Module {
   /// g(D_b)) / 2, the degradation g of each law applied to its particle's share like the rest of
   /// its stiffness (Eq. 4.17; g = 1 without damage). docs/damage.md "Hourglass control under
   /// damage": with the undamaged E the penalty bridged the damaged bands and widened them.
-  static double hourglassPairStiffness(const ElasticMaterial& a, double ga, const ElasticMaterial& b,
-                                       double gb) {
-    return 0.5 * (a.hourglass * a.young * ga + b.hourglass * b.young * gb);
-  }
+  /// A particle's share alpha E g(D); the pair stiffness is the mean of the two shares (the
+  /// member loops read the shares from a per-particle array filled once per evaluation).
+  static double hourglassShare(const ElasticMaterial& a, double ga) { return a.hourglass * a.young * ga; }
+  static double hourglassPairStiffness(double shareA, double shareB) { return 0.5 * (shareA + shareB); }
   int slotOf(std::int32_t material) const {
     return material >= 0 && static_cast<size_t>(material) < slot_.size()
                ? slot_[static_cast<size_t>(material)] : -1;
@@ -229,6 +229,11 @@ class ElasticSolidModule : public Module {
  private:
   RealField hgEnergy_;
   std::vector<double> hgScratch_;
+  // TL per-particle factors the member loops read (docs/performance.md "The rock scene's
+  // step"): the reference volume m / rho0 and the hourglass share alpha E g(D), computed once
+  // per evaluation instead of once per member (the same values bit for bit)
+  std::vector<double> refVolume_, hgShare_;
+  void refreshReferenceVolumes(const Simulation& sim);
   // TL reference family, held by the module in compressed rows over the solid particles
   // (initialise): member ids, g_ab, and g_ba (family_storage fast) or the slot of b's own
   // entry for a (compact); a particle's row is its solid_family_row field (-1: none).
