@@ -23,6 +23,7 @@
 #include "libcore/domain.hpp"
 #include "libcore/kernel.hpp"
 #include "libcore/neighbour_search.hpp"
+#include "libcore/periodic_images.hpp"
 #include "libcore/types.hpp"
 
 namespace poresph {
@@ -37,34 +38,13 @@ std::vector<double> consistentLoadVectors(const Kernel& kernel, const Domain& do
                                           const double* X, const double* V, Index n) {
   const double support = kernel.support();
   std::vector<double> Xm(X, X + static_cast<size_t>(n) * D);
-  std::vector<Index> origin(static_cast<size_t>(n));
-  for (Index k = 0; k < n; ++k) origin[static_cast<size_t>(k)] = k;
-  if (domain.anyPeriodic()) {
-    int shifts = 1;
-    for (int a = 0; a < D; ++a) shifts *= 3;
-    for (Index k = 0; k < n; ++k)
-      for (int code = 0; code < shifts; ++code) {
-        bool any = false, keep = true;
-        Vec<D> Y = Eigen::Map<const Vec<D>>(X + k * D);
-        for (int a = 0, c = code; a < D; ++a, c /= 3) {
-          const int sh = c % 3 - 1;
-          if (sh == 0) continue;
-          if (!domain.periodic[static_cast<size_t>(a)]) { keep = false; break; }
-          const double L = domain.length(a);
-          if (L < 2.0 * support)
-            throw std::invalid_argument("consistentLoadVectors: a periodic period shorter than "
-                                        "two kernel supports");
-          any = true;
-          Y[a] += sh * L;
-          if (Y[a] < domain.lo[static_cast<size_t>(a)] - support ||
-              Y[a] > domain.hi[static_cast<size_t>(a)] + support)
-            keep = false;
-        }
-        if (!any || !keep) continue;
-        for (int a = 0; a < D; ++a) Xm.push_back(Y[a]);
-        origin.push_back(k);
-      }
-  }
+  if (n > 0)
+    for (int a = 0; a < D; ++a)
+      if (domain.periodic[static_cast<size_t>(a)] && domain.length(a) < 2.0 * support)
+        throw std::invalid_argument("consistentLoadVectors: a periodic period shorter than "
+                                    "two kernel supports");
+  std::vector<Index> origin;
+  appendPeriodicImages<D>(domain, support, Xm, origin);
   const Index nx = static_cast<Index>(origin.size());
   std::vector<double> Vm(static_cast<size_t>(nx));
   for (Index k = 0; k < nx; ++k) Vm[static_cast<size_t>(k)] = V[origin[static_cast<size_t>(k)]];

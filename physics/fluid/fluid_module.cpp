@@ -11,6 +11,8 @@
 
 #include "libcore/artificial_viscosity.hpp"
 #include "libcore/fluid_pair_terms.hpp"
+#include "libcore/neighbour_search.hpp"
+#include "libcore/periodic_images.hpp"
 #include "libcore/phases.hpp"
 #include "libcore/simulation.hpp"
 #include "physics/fluid/fluid_pair.hpp"
@@ -284,10 +286,10 @@ void FluidModule::initialise(Simulation& sim) {
 // smoothing length (support 6h), pointing from the walls into the fluid; computed once from the
 // set-up (walls never move; a translating wall's normal does not change). The fluid particle's
 // wall normal is then the kernel mean sum_w V_w W_aw g_w (kinematicsD), which deviates by
-// rms 2-3 degrees, at most 4-5, on the 15 and 30 degree staircases. Own cell search (cells of
-// at least the wide support, minimum image on periodic axes): the run's neighbour list and
-// ghost halo reach one support only. Other modules' boundaries (solid, rigid) move and keep the
-// local gradient.
+// rms 2-3 degrees, at most 4-5, on the 15 and 30 degree staircases. Set-up search over the real
+// particles and their periodic images within the wide support (the run's neighbour list and
+// ghost halo reach one support only). Other modules' boundaries (solid, rigid) move and keep
+// the local gradient.
 template <int D>
 void FluidModule::computeWallNormalsD(Simulation& sim) {
   auto& st = sim.store;
@@ -299,88 +301,31 @@ void FluidModule::computeWallNormalsD(Simulation& sim) {
   double* wn = st.data(wallNormal);
   const Kernel Kw(sim.kernel.type(), D, 2.0 * sim.kernel.h());
   const double R = Kw.support();
-  std::array<double, D> lo{}, len{}, edge{};
-  std::array<int, D> nc{};
-  std::array<bool, D> per{};
-  for (int a = 0; a < D; ++a) {
-    per[a] = sim.domain.periodic[static_cast<size_t>(a)];
-    if (per[a]) {
-      lo[a] = sim.domain.lo[static_cast<size_t>(a)];
-      len[a] = sim.domain.length(a);
-    } else {
-      double mn = 1e300, mx = -1e300;
-      for (Index i = 0; i < n; ++i) mn = std::min(mn, x[i * D + a]), mx = std::max(mx, x[i * D + a]);
-      lo[a] = mn;
-      len[a] = std::max(mx - mn, 0.0) + 1e-9 * R + R;
-    }
-    nc[a] = std::max(1, static_cast<int>(std::floor(len[a] / R)));
-    edge[a] = len[a] / nc[a];
-  }
-  auto cellOf = [&](Index i, std::array<int, D>& c) {
-    for (int a = 0; a < D; ++a) {
-      double u = x[i * D + a] - lo[a];
-      if (per[a]) u -= len[a] * std::floor(u / len[a]);
-      c[a] = std::clamp(static_cast<int>(std::floor(u / edge[a])), 0, nc[a] - 1);
-    }
-  };
-  auto linear = [&](const std::array<int, D>& c) {
-    long long k = 0;
-    for (int a = D - 1; a >= 0; --a) k = k * nc[a] + c[a];
-    return k;
-  };
-  long long cells = 1;
-  for (int a = 0; a < D; ++a) cells *= nc[a];
-  std::vector<Index> start(static_cast<size_t>(cells) + 1, 0), order(static_cast<size_t>(n));
-  std::vector<long long> cellIndex(static_cast<size_t>(n));
-  for (Index i = 0; i < n; ++i) {
-    std::array<int, D> c;
-    cellOf(i, c);
-    cellIndex[static_cast<size_t>(i)] = linear(c);
-    ++start[static_cast<size_t>(cellIndex[static_cast<size_t>(i)]) + 1];
-  }
-  for (long long k = 0; k < cells; ++k) start[static_cast<size_t>(k) + 1] += start[static_cast<size_t>(k)];
-  {
-    std::vector<Index> fill(start.begin(), start.end() - 1);
-    for (Index i = 0; i < n; ++i) order[static_cast<size_t>(fill[static_cast<size_t>(cellIndex[static_cast<size_t>(i)])]++)] = i;
-  }
-  int offsets = 1;
-  for (int a = 0; a < D; ++a) offsets *= 3;
+  // Real particles and their periodic images within R (libcore/periodic_images.hpp): the run's
+  // halo reaches one support only. A period shorter than 2R would pair a particle with its own
+  // image.
+  for (int a = 0; a < D; ++a)
+    if (sim.domain.periodic[static_cast<size_t>(a)] && sim.domain.length(a) < 2.0 * R)
+      throw InputError("fluid: wall_normal: wide needs periodic lengths of at least " +
+                       std::to_string(2.0 * R) + " m (two supports of the kernel at 2h); axis " +
+                       std::to_string(a) + " is " + std::to_string(sim.domain.length(a)) + " m");
+  std::vector<double> X(x, x + static_cast<size_t>(n) * D);
+  std::vector<Index> origin;
+  appendPeriodicImages<D>(sim.domain, R, X, origin);
+  NeighbourSearch search;
+  NeighbourList near;
+  search.build(X.data(), D, n, static_cast<Index>(origin.size()), R, near);
 #pragma omp parallel for schedule(dynamic, 256)
   for (Index i = 0; i < n; ++i) {
-    for (int a = 0; a < D; ++a) wn[i * D + a] = 0.0;
-    if (ph[i] != kPhaseWall) continue;
-    std::array<int, D> c;
-    cellOf(i, c);
-    std::vector<long long> near;
-    near.reserve(static_cast<size_t>(offsets));
-    for (int o = 0; o < offsets; ++o) {
-      std::array<int, D> cc;
-      bool inside = true;
-      int code = o;
-      for (int a = 0; a < D; ++a) {
-        cc[a] = c[a] + code % 3 - 1;
-        code /= 3;
-        if (per[a]) cc[a] = (cc[a] + nc[a]) % nc[a];
-        else if (cc[a] < 0 || cc[a] >= nc[a]) inside = false;
-      }
-      if (inside) near.push_back(linear(cc));
-    }
-    std::sort(near.begin(), near.end());
-    near.erase(std::unique(near.begin(), near.end()), near.end());
     Vec<D> g = Vec<D>::Zero();
-    for (long long k : near)
-      for (Index q = start[static_cast<size_t>(k)]; q < start[static_cast<size_t>(k) + 1]; ++q) {
-        const Index j = order[static_cast<size_t>(q)];
-        if (j == i) continue;
+    if (ph[i] == kPhaseWall)
+      for (auto p = near.offset[static_cast<size_t>(i)]; p < near.offset[static_cast<size_t>(i) + 1]; ++p) {
+        const Index k = near.index[static_cast<size_t>(p)];
+        const Index j = origin[static_cast<size_t>(k)];
         Vec<D> r;
-        for (int a = 0; a < D; ++a) {
-          r[a] = x[i * D + a] - x[j * D + a];
-          if (per[a]) r[a] -= len[a] * std::round(r[a] / len[a]);
-        }
-        const double rn = r.norm();
-        if (rn >= R) continue;
+        for (int a = 0; a < D; ++a) r[a] = X[static_cast<size_t>(i * D + a)] - X[static_cast<size_t>(k * D + a)];
         const double phi = ph[j] == kPhaseFluid ? 1.0 : -1.0;
-        g += (phi * m[j] / rho[j] * Kw.F(rn)) * r;  // grad_w W points from w towards j
+        g += (phi * m[j] / rho[j] * Kw.F(r.norm())) * r;  // grad_w W points from w towards j
       }
     for (int a = 0; a < D; ++a) wn[i * D + a] = g[a];
   }

@@ -14,6 +14,7 @@
 #include "libcore/simulation.hpp"
 #include "libcore/consistent_load.hpp"
 #include "libcore/corrections.hpp"
+#include "libcore/periodic_images.hpp"
 
 namespace poresph::solid {
 
@@ -545,34 +546,12 @@ void ElasticSolidModule::initialiseDim(Simulation& sim) {
   // the face; `origin` maps an image back to its particle. Families use minimum-image
   // separations, which needs a period of at least two supports where a family crosses a face.
   const double support = solidKernel(sim).support();
-  std::vector<Index> origin(static_cast<size_t>(nm));
-  for (Index k = 0; k < nm; ++k) origin[static_cast<size_t>(k)] = k;
   period_ = {0.0, 0.0, 0.0};
   for (int a = 0; a < D; ++a)
     if (sim.domain.periodic[static_cast<size_t>(a)]) period_[static_cast<size_t>(a)] = sim.domain.length(a);
-  if (sim.domain.anyPeriodic()) {
-    int shifts = 1;
-    for (int a = 0; a < D; ++a) shifts *= 3;
-    for (Index k = 0; k < nm; ++k)
-      for (int code = 0; code < shifts; ++code) {
-        bool any = false, keep = true;
-        Vec<D> Y = Eigen::Map<const Vec<D>>(Xm.data() + k * D);
-        for (int a = 0, c = code; a < D; ++a, c /= 3) {
-          const int sh = c % 3 - 1;
-          if (sh == 0) continue;
-          const double L = period_[static_cast<size_t>(a)];
-          if (L <= 0.0) { keep = false; break; }
-          any = true;
-          Y[a] += sh * L;
-          if (Y[a] < sim.domain.lo[static_cast<size_t>(a)] - support ||
-              Y[a] > sim.domain.hi[static_cast<size_t>(a)] + support)
-            keep = false;
-        }
-        if (!any || !keep) continue;
-        for (int a = 0; a < D; ++a) Xm.push_back(Y[a]);
-        origin.push_back(k);
-      }
-    const Index images = static_cast<Index>(origin.size()) - nm;
+  std::vector<Index> origin;
+  {
+    const Index images = appendPeriodicImages<D>(sim.domain, support, Xm, origin);
     for (int a = 0; a < D; ++a)
       if (images > 0 && period_[static_cast<size_t>(a)] > 0.0 &&
           period_[static_cast<size_t>(a)] < 2.0 * support)
