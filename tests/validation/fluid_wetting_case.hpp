@@ -26,6 +26,7 @@
 
 #include "libcore/phases.hpp"
 #include "physics/fluid/fluid_setup.hpp"
+#include "tests/support/interface_circle.hpp"
 #include "tests/support/validation_record.hpp"
 
 namespace poresph::test {
@@ -139,36 +140,16 @@ struct TiltedSessile {
 
   /// Contact angle (degrees, through the liquid) by the circle fit in the wall frame.
   double contactAngle(double& rc, double& sc, int& npts) {
-    sim.updateNeighbours();
-    const auto& st = sim.store;
-    const double* x = st.data(st.position());
-    const std::int32_t* mt = st.data(st.material());
-    const auto& nl = sim.neighbours;
     std::vector<Eigen::Vector2d> pts;
-    for (Index i = 0; i < st.realCount(); ++i) {
-      if (mt[i] != liquid) continue;
-      for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
-        const Index j = nl.index[static_cast<size_t>(k)];
-        if (mt[j] != gas) continue;
-        const Eigen::Vector2d pa(x[2 * i], x[2 * i + 1]), pb2(x[2 * j], x[2 * j + 1]);
-        if ((pa - pb2).norm() > 1.5 * dx) continue;
-        const Eigen::Vector2d d = 0.5 * (pa + pb2) - P0;
-        const Eigen::Vector2d q(d.dot(t), d.dot(n));
-        if (q.y() > sSurface + 2.0 * dx) pts.push_back(q);
-      }
+    for (const auto& mid : liquidGasMidpoints(sim, liquid, gas, dx)) {
+      const Eigen::Vector2d d = mid - P0;
+      const Eigen::Vector2d q(d.dot(t), d.dot(n));
+      if (q.y() > sSurface + 2.0 * dx) pts.push_back(q);
     }
     npts = static_cast<int>(pts.size());
-    Eigen::MatrixXd A(npts, 3);
-    Eigen::VectorXd b(npts);
-    for (int k = 0; k < npts; ++k) {
-      const auto& p = pts[static_cast<size_t>(k)];
-      A.row(k) << p.x(), p.y(), 1.0;
-      b[k] = -(p.x() * p.x() + p.y() * p.y());
-    }
-    const Eigen::Vector3d s = A.colPivHouseholderQr().solve(b);
-    const double tc = -0.5 * s[0];
-    sc = -0.5 * s[1];
-    rc = std::sqrt(tc * tc + sc * sc - s[2]);
+    const FittedCircle fit = kasaCircle(pts);
+    sc = fit.centre.y();
+    rc = fit.radius;
     return std::acos(std::clamp(-(sc - sSurface) / rc, -1.0, 1.0)) * 180.0 / kPi;
   }
 

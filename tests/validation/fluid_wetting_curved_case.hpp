@@ -32,6 +32,7 @@
 
 #include "libcore/phases.hpp"
 #include "physics/fluid/fluid_setup.hpp"
+#include "tests/support/interface_circle.hpp"
 #include "tests/support/validation_record.hpp"
 
 namespace poresph::test {
@@ -135,37 +136,16 @@ struct CurvedSessile {
   /// Contact angle (degrees, through the liquid) against the local wall tangent at the contact
   /// points of the fitted circle; NaN when it does not cut the wall circle.
   double contactAngle(double& rd, int& npts) {
-    sim.updateNeighbours();
-    const auto& st = sim.store;
-    const double* x = st.data(st.position());
-    const std::int32_t* mt = st.data(st.material());
-    const auto& nl = sim.neighbours;
     std::vector<Eigen::Vector2d> pts;
-    for (Index i = 0; i < st.realCount(); ++i) {
-      if (mt[i] != liquid) continue;
-      for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
-        const Index j = nl.index[static_cast<size_t>(k)];
-        if (mt[j] != gas) continue;
-        const Eigen::Vector2d pa(x[2 * i], x[2 * i + 1]), pb2(x[2 * j], x[2 * j + 1]);
-        if ((pa - pb2).norm() > 1.5 * dx) continue;
-        const Eigen::Vector2d q = 0.5 * (pa + pb2);
-        if (std::abs((q - C).norm() - Rc) > 2.0 * dx) pts.push_back(q);
-      }
-    }
+    for (const auto& q : liquidGasMidpoints(sim, liquid, gas, dx))
+      if (std::abs((q - C).norm() - Rc) > 2.0 * dx) pts.push_back(q);
     npts = static_cast<int>(pts.size());
     const double nan = std::numeric_limits<double>::quiet_NaN();
     rd = nan;
     if (npts < 3) return nan;
-    Eigen::MatrixXd A(npts, 3);
-    Eigen::VectorXd bb(npts);
-    for (int k = 0; k < npts; ++k) {
-      const auto& p = pts[static_cast<size_t>(k)];
-      A.row(k) << p.x(), p.y(), 1.0;
-      bb[k] = -(p.x() * p.x() + p.y() * p.y());
-    }
-    const Eigen::Vector3d s = A.colPivHouseholderQr().solve(bb);
-    const Eigen::Vector2d Cd(-0.5 * s[0], -0.5 * s[1]);
-    rd = std::sqrt(Cd.squaredNorm() - s[2]);
+    const FittedCircle fit = kasaCircle(pts);
+    const Eigen::Vector2d Cd = fit.centre;
+    rd = fit.radius;
     // intersections of |P - C| = Rc and |P - Cd| = rd
     const Eigen::Vector2d e = Cd - C;
     const double dd = e.norm();

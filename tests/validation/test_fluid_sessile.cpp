@@ -19,9 +19,13 @@
 
 #include "libcore/phases.hpp"
 #include "physics/fluid/fluid_setup.hpp"
+#include "tests/support/interface_circle.hpp"
 #include "tests/support/validation_record.hpp"
 
 using namespace poresph;
+using poresph::test::FittedCircle;
+using poresph::test::kasaCircle;
+using poresph::test::liquidGasMidpoints;
 namespace fs = poresph::fluidsetup;
 
 namespace {
@@ -69,44 +73,17 @@ struct Sessile {
     fluid->initialise(sim);
   }
 
-  // Interface points: midpoints of liquid-gas pairs closer than 1.5 dx, above y > yMin.
-  std::vector<Eigen::Vector2d> interfacePoints(double yMin) {
-    sim.updateNeighbours();
-    const auto& st = sim.store;
-    const double* x = st.data(st.position());
-    const std::int32_t* mt = st.data(st.material());
-    const auto& nl = sim.neighbours;
-    std::vector<Eigen::Vector2d> pts;
-    for (Index i = 0; i < st.realCount(); ++i) {
-      if (mt[i] != liquid) continue;
-      for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
-        const Index j = nl.index[static_cast<size_t>(k)];
-        if (mt[j] != liquid + 1) continue;  // gas
-        const Eigen::Vector2d a(x[2 * i], x[2 * i + 1]), b(x[2 * j], x[2 * j + 1]);
-        if ((a - b).norm() > 1.5 * dx) continue;
-        const Eigen::Vector2d mid = 0.5 * (a + b);
-        if (mid.y() > yMin) pts.push_back(mid);
-      }
-    }
-    return pts;
-  }
-
-  // Algebraic (Kasa) circle fit; contact angle (degrees, through the liquid) where the circle
-  // meets the wall plane y = 0: cos(theta) = -yc / r.
+  // Algebraic (Kasa) circle fit to the liquid-gas pair midpoints above y = 2 dx
+  // (tests/support/interface_circle.hpp); contact angle (degrees, through the liquid) where the
+  // circle meets the wall plane y = 0: cos(theta) = -yc / r.
   double contactAngle(double& rc, double& yc, int& npts) {
-    const auto pts = interfacePoints(2.0 * dx);
+    std::vector<Eigen::Vector2d> pts;
+    for (const auto& q : liquidGasMidpoints(sim, liquid, liquid + 1, dx))
+      if (q.y() > 2.0 * dx) pts.push_back(q);
     npts = static_cast<int>(pts.size());
-    Eigen::MatrixXd A(npts, 3);
-    Eigen::VectorXd b(npts);
-    for (int k = 0; k < npts; ++k) {
-      const auto& p = pts[static_cast<size_t>(k)];
-      A.row(k) << p.x(), p.y(), 1.0;
-      b[k] = -(p.x() * p.x() + p.y() * p.y());
-    }
-    const Eigen::Vector3d s = A.colPivHouseholderQr().solve(b);
-    const double xc = -0.5 * s[0];
-    yc = -0.5 * s[1];
-    rc = std::sqrt(xc * xc + yc * yc - s[2]);
+    const FittedCircle fit = kasaCircle(pts);
+    yc = fit.centre.y();
+    rc = fit.radius;
     return std::acos(std::clamp(-yc / rc, -1.0, 1.0)) * 180.0 / kPi;
   }
 
