@@ -8,6 +8,7 @@
 //     voxel lattice (staircase bore).
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdlib>
 #include <cstdio>
@@ -132,6 +133,97 @@ TEST(CouplingMomentum, ExploreContinuityForm) {
                     clock.seconds());
         std::fflush(stdout);
       }
+}
+
+// The power balance of the droplet on the free block per pair class (issue 11 item 1): after
+// every step the rates are re-evaluated on the synchronised state, module by module (the store's
+// rates put back afterwards), and the power that each class's pair forces put into the kinetic
+// energy is added to the rate of the compression energy sum m e(rho) (de/drho = p / rho^2) that
+// its continuity terms give, then integrated (trapezoid) and printed as a fraction of E0:
+//   fluid-fluid  sum_fluid m (v . a + p/rho^2 drho/dt) of the fluid module's stage,
+//   fluid-solid  the coupling's stage: the power on the fluid side, on the solid side, and the
+//                compression rate of its continuity terms (a conservative pair sums to zero).
+// PORESPH_PAIR_POWER=1; PORESPH_FLUID_SECTION sets the fluid section (default: none = Eq. 5.1a).
+TEST(CouplingMomentum, ExplorePowerByPairClass) {
+  if (!std::getenv("PORESPH_PAIR_POWER")) GTEST_SKIP() << "set PORESPH_PAIR_POWER=1";
+  const char* section = std::getenv("PORESPH_FLUID_SECTION");
+  const double cfl = std::getenv("PORESPH_CFL") ? std::atof(std::getenv("PORESPH_CFL")) : 0.2;
+  const int steps = std::getenv("PORESPH_STEPS") ? std::atoi(std::getenv("PORESPH_STEPS")) : 10000;
+  Scene s = loadSceneText(dropletText(section ? section : "", false, cfl), "droplet_block.yaml");
+  Simulation& sim = *s.sim;
+  auto integrator = makeIntegrator("leapfrog");
+  Module* fluid = sim.module("fluid");
+  Module* coupling = sim.module("coupling");
+  ASSERT_NE(fluid, nullptr);
+  ASSERT_NE(coupling, nullptr);
+  ParticleStore& st = sim.store;
+  const Index n = st.realCount();
+  const RealField rateField = st.real("density_rate");
+  // Powers of one evaluation: {ff kinetic, ff compression, fs on fluid, fs on solid, fs compression}
+  auto powers = [&] {
+    std::vector<std::vector<double>> saved;
+    for (const IntegratedField& f : sim.integrated) {
+      const double* r = st.data(f.rate);
+      saved.emplace_back(r, r + n * st.components(f.rate.id));
+    }
+    const double* accSrc = st.data(sim.acceleration);
+    std::vector<double> accSaved(accSrc, accSrc + 2 * n);
+    double* acc = st.data(sim.acceleration);
+    double* drho = st.data(rateField);
+    const double* v = st.data(st.velocity());
+    const double* m = st.data(st.mass());
+    const double* rho = st.data(st.density());
+    const std::int32_t* ph = st.data(st.phase());
+    const std::int32_t* mt = st.data(st.material());
+    auto zero = [&] {
+      std::fill(acc, acc + 2 * n, 0.0);
+      std::fill(drho, drho + n, 0.0);
+    };
+    std::array<double, 5> P{0, 0, 0, 0, 0};
+    auto eprime = [&](Index i) {
+      const FluidProperties& fp = sim.materials[static_cast<size_t>(mt[i])].fluid;
+      return pressureOf(fp, rho[i]) / (rho[i] * rho[i]);
+    };
+    zero();
+    fluid->kinematics(sim);
+    fluid->constitutive(sim);
+    fluid->forces(sim);
+    for (Index i = 0; i < n; ++i)
+      if (ph[i] == kPhaseFluid) {
+        P[0] += m[i] * (acc[2 * i] * v[2 * i] + acc[2 * i + 1] * v[2 * i + 1]);
+        P[1] += m[i] * eprime(i) * drho[i];
+      }
+    zero();
+    coupling->interfaces(sim);
+    for (Index i = 0; i < n; ++i) {
+      const double pw = m[i] * (acc[2 * i] * v[2 * i] + acc[2 * i + 1] * v[2 * i + 1]);
+      if (ph[i] == kPhaseFluid) {
+        P[2] += pw;
+        P[4] += m[i] * eprime(i) * drho[i];
+      } else if (ph[i] == kPhaseSolid) {
+        P[3] += pw;
+      }
+    }
+    for (size_t k = 0; k < sim.integrated.size(); ++k)
+      std::copy(saved[k].begin(), saved[k].end(), st.data(sim.integrated[k].rate));
+    std::copy(accSaved.begin(), accSaved.end(), acc);
+    return P;
+  };
+  const double e0 = totalEnergy(sim);
+  std::array<double, 5> P0 = powers(), W{0, 0, 0, 0, 0};
+  for (int k = 1; k <= steps; ++k) {
+    const double dt = s.nextTimeStep();
+    integrator->step(sim, dt);
+    const std::array<double, 5> P1 = powers();
+    for (int c = 0; c < 5; ++c) W[c] += 0.5 * dt * (P0[c] + P1[c]);
+    P0 = P1;
+    if (k % (steps / 20) != 0) continue;
+    std::printf("t %.5f drift %+.3e | fluid-fluid: kinetic %+.3e compression %+.3e sum %+.3e | "
+                "fluid-solid: on fluid %+.3e on solid %+.3e compression %+.3e sum %+.3e\n",
+                sim.time, (totalEnergy(sim) - e0) / e0, W[0] / e0, W[1] / e0, (W[0] + W[1]) / e0,
+                W[2] / e0, W[3] / e0, W[4] / e0, (W[2] + W[3] + W[4]) / e0);
+    std::fflush(stdout);
+  }
 }
 
 // Fluid only: two droplets of kDroplet's water colliding head-on (no solid, no walls), 1e4 steps
