@@ -55,6 +55,10 @@ struct PlateSetup {
   double crossDepth = 1.5;
   /// the solid's `damage_commit` (docs/damage.md "The commit lag"): step_end or evaluation
   std::string damageCommit = "step_end";
+  /// the solid's formulation: total_lagrangian (hourglass control possible) or
+  /// small_strain_stress (the thesis' infinitesimal strain, but its stress form: docs/solid.md)
+  std::string formulation = "total_lagrangian";
+  std::string plane = "strain";  ///< plane strain or stress (the thesis does not say)
 };
 
 struct PlateResult {
@@ -63,9 +67,13 @@ struct PlateResult {
   double uOnsetLow = 0.0;   ///< ... when the first particle reached lowThreshold (0: never)
   double xOnsetLow = 0.0, yOnsetLow = 0.0;
   double uCross = 0.0;      ///< ... when damaged particles touch both lateral sides (0: never)
+  /// the crossing (within crossDepth x dx of both sides) at D >= 0.1 / 0.5 / 0.9 / 0.99 (0: never)
+  double uCrossAt[4] = {0.0, 0.0, 0.0, 0.0};
   double asymmetry = 0.0;   ///< sum |D(x, y) - D(-x, y)| / sum D at the end
   double width = 0.0;       ///< damaged width across the crack at x = +-(a + L/6) [m], at the end
   double widthCross = 0.0;  ///< the same when the crack first reached both sides
+  /// at the crossing, the width (D >= threshold) averaged over the columns 70 <= |x| <= 140 mm
+  double widthMeanCross = 0.0;
   double balance = 0.0;     ///< energy balance residual / work in
   double dissipated = 0.0;  ///< released energy [J per m of thickness]
   double dmax = 0.0;
@@ -106,14 +114,15 @@ inline PlateResult runPlate(const PlateSetup& s) {
   if (s.avAlpha > 0.0 || s.avBeta > 0.0)
     std::snprintf(av, sizeof av, ", artificial_viscosity: {alpha: %g, beta: %g}", s.avAlpha, s.avBeta);
   std::snprintf(buf, sizeof buf,
-                "{density: %g, young_modulus: %g, poisson_ratio: %g, formulation: total_lagrangian, "
+                "{density: %g, young_modulus: %g, poisson_ratio: %g, formulation: %s, plane: %s, "
                 "hourglass: %g, damping: %g%s%s%s}",
-                rho, E, nu, s.hourglass, s.damping, av, s.law.empty() ? "" : ", damage: ", s.law.c_str());
+                rho, E, nu, s.formulation.c_str(), s.plane.c_str(), s.hourglass, s.damping, av,
+                s.law.empty() ? "" : ", damage: ", s.law.c_str());
   addMaterial(sim, "matrix", "elastic", buf);
   std::snprintf(buf, sizeof buf,
-                "{density: %g, young_modulus: %g, poisson_ratio: %g, formulation: total_lagrangian, "
+                "{density: %g, young_modulus: %g, poisson_ratio: %g, formulation: %s, plane: %s, "
                 "hourglass: %g, damping: %g%s}",
-                rho, E, nu, s.hourglass, s.damping, av);
+                rho, E, nu, s.formulation.c_str(), s.plane.c_str(), s.hourglass, s.damping, av);
   const bool rigidInclusion = s.inclusion != Inclusion::Clamped;
   if (rigidInclusion) {
     std::snprintf(buf, sizeof buf, "{density: %g, bonded: true, damping: %g%s}", rho, s.bodyDamping,
@@ -207,6 +216,7 @@ inline PlateResult runPlate(const PlateSetup& s) {
   }
   // left-right asymmetry and damaged width of the current damage field
   std::vector<double> grid;
+  double widthMean = 0.0;  // set by measure: the width averaged over 70 <= |x| <= 140 mm
   auto measure = [&](double& asym, double& width) {
     const double* Dm = sim.store.data(sim.store.real("damage"));
     grid.assign(static_cast<size_t>(n) * n, 0.0);
@@ -232,6 +242,14 @@ inline PlateResult runPlate(const PlateSetup& s) {
       for (int iy = 0; iy < n; ++iy) count += grid[static_cast<size_t>(iy) * n + ix] >= s.threshold;
       width += 0.5 * count * dx;
     }
+    int columns = 0, count = 0;
+    for (int ix = 0; ix < n; ++ix) {
+      const double xc = std::abs(-0.5 * L + (ix + 0.5) * dx);
+      if (xc < 0.07 || xc > 0.14) continue;
+      ++columns;
+      for (int iy = 0; iy < n; ++iy) count += grid[static_cast<size_t>(iy) * n + ix] >= s.threshold;
+    }
+    widthMean = columns > 0 ? count * dx / columns : 0.0;
   };
   bool onset = false, crossed = false;  // (u < 0 in compression)
   r.uOnset = r.uCross = 0.0;
@@ -248,8 +266,15 @@ inline PlateResult runPlate(const PlateSetup& s) {
     const double* D = sim.store.data(sim.store.real("damage"));
     bool left = false, right = false;
     const double crossD = s.crossThreshold < 0.0 ? s.threshold : s.crossThreshold;
+    static constexpr double kCrossLevels[4] = {0.1, 0.5, 0.9, 0.99};
+    bool leftAt[4] = {false, false, false, false}, rightAt[4] = {false, false, false, false};
     for (Index i = 0; i < sim.store.realCount(); ++i) {
       if (mat[i] != 0 || mo[i] == kMotionPrescribed) continue;
+      for (int k = 0; k < 4; ++k)
+        if (D[i] >= kCrossLevels[k]) {
+          if (X[2 * i] < -0.5 * L + s.crossDepth * dx) leftAt[k] = true;
+          if (X[2 * i] > 0.5 * L - s.crossDepth * dx) rightAt[k] = true;
+        }
       if (D[i] >= crossD) {
         if (X[2 * i] < -0.5 * L + s.crossDepth * dx) left = true;
         if (X[2 * i] > 0.5 * L - s.crossDepth * dx) right = true;
@@ -271,11 +296,14 @@ inline PlateResult runPlate(const PlateSetup& s) {
         if (!s.dump.empty()) dumpCsv(s.dump + "_onset.csv", sim);
       }
     }
+    for (int k = 0; k < 4; ++k)
+      if (leftAt[k] && rightAt[k] && r.uCrossAt[k] == 0.0) r.uCrossAt[k] = u;
     if (left && right && !crossed) {
       crossed = true;
       r.uCross = u;
       double asym = 0.0;
       measure(asym, r.widthCross);
+      r.widthMeanCross = widthMean;
       r.gridCross = grid;
       r.gridN = n;
       double ux = 0.0, rot = 0.0;

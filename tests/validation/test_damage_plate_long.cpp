@@ -3,7 +3,8 @@
 // (dx = 2 mm) with the thesis' support 2h = 5 mm, bottom + inclusion held. Asserted as in the
 // coarse test: onset on the upper half of the inclusion's boundary, a crack through both sides,
 // left-right symmetry within 10 %, width at crossing within 0.5-2 x 2h. Onset and crossing are
-// recorded beside the thesis' 17.4 / 19.8 um (300 x 300 points). ~10 min of one core.
+// recorded beside the thesis' 17.4 / 19.8 um (300 x 300 points). ~10 min of one core. The same at
+// 200 x 200 points with the onset (D >= 0.1) and the width asserted against the thesis: below.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -60,4 +61,68 @@ TEST(DamagePlateLong, TensionAT2At150x150With2h5mm) {
   test::recordValidation({"damage_plate_150_at2_tension", "damaged width (D >= 0.5) at crossing [m]",
                           r.widthCross, s.support, std::abs(r.widthCross - s.support) / s.support, res,
                           r.wall, "0.5-2 x 2h", "thesis Fig. 4.14c (width ~ 2h)"});
+}
+
+// Item 3 of issue 13 at 200 x 200 points (dx = 1.5 mm), the thesis' support 2h = 5 mm (thesis
+// Sec. 4.3.2.1, Fig. 4.14; 4.3.2.3 runs 200 / 300 / 400 / 500 points), AT-2 in tension, bottom +
+// inclusion held, no hourglass control, `damage_commit: evaluation`, ramp 2.5 um per L/c_p
+// stopped at 40 um (the same run as the 70 um ramp up to 40 um: onset and crossing unchanged,
+// docs/damage.md "The plate at 200 / 300 / 400 points"). Asserted: onset (first D >= 0.1) within
+// 10 % of the thesis' 17.4 um, on the upper half of the inclusion's boundary; the crack reaches
+// both sides; left-right symmetry within 10 %; damaged width (D >= 0.5) at x = +-100 mm when the
+// crack reaches the sides within 15 % of 2h; energy balance within 1 % of the boundary work.
+// Recorded, not asserted: the crossing (29.5 um measured against the thesis' 19.8 um: +49 %, the
+// gap documented in docs/damage.md, the same at 150 / 300 / 400 points) and the D >= 0.5 onset.
+// Measured 2026-11-27: 153 s CPU on one thread.
+TEST(DamagePlateLong, TensionAT2At200x200With2h5mmOnsetWidthSymmetry) {
+  PlateSetup s;
+  s.dx = 1.5e-3;
+  s.support = 5e-3;
+  s.uMax = 40e-6;
+  s.rampCrossings = 16;
+  s.clampBottom = true;
+  s.hourglass = 0.0;
+  s.damageCommit = "evaluation";
+  if (const char* d = std::getenv("PORESPH_PLATE_DUMP")) s.dump = d;
+  const PlateResult r = runPlate(s);
+  const double a = 0.05, thOnset = 17.4, thCross = 19.8;
+  const double onLow = 1e6 * r.uOnsetLow, on = 1e6 * r.uOnset, cross = 1e6 * r.uCross;
+  std::printf("plate 200 x 200: %ld particles, %ld steps, onset D >= 0.1 u = %.2f um at (%.1f, %.1f) mm, "
+              "D >= 0.5 u = %.2f um at (%.1f, %.1f) mm, crossing u = %.2f um, asymmetry %.2e, width %.2f mm at "
+              "x = +-100 mm (mean over 70-140 mm %.2f) at crossing (2h = %.1f), balance %.2e, %.1f s\n",
+              r.particles, r.steps, onLow, 1e3 * r.xOnsetLow, 1e3 * r.yOnsetLow, on, 1e3 * r.xOnset,
+              1e3 * r.yOnset, cross, r.asymmetry, 1e3 * r.widthCross, 1e3 * r.widthMeanCross,
+              1e3 * s.support, r.balance, r.wall);
+  ASSERT_GT(r.uOnsetLow, 0.0) << "no damage";
+  EXPECT_LT(std::abs(onLow - thOnset) / thOnset, 0.10) << "onset (D >= 0.1) against the thesis' 17.4 um";
+  const double rOnset = std::hypot(r.xOnsetLow, r.yOnsetLow);
+  EXPECT_GT(r.yOnsetLow, 0.0);
+  EXPECT_GE(rOnset, a);
+  EXPECT_LT(rOnset, a + 2 * s.support);
+  ASSERT_GT(r.uCross, 0.0) << "the crack did not reach both sides by 40 um";
+  EXPECT_GT(r.uCross, r.uOnset);
+  EXPECT_LT(r.asymmetry, 0.10);
+  EXPECT_LT(std::abs(r.widthCross - s.support) / s.support, 0.15) << "width at x = +-100 mm: " << r.widthCross;
+  EXPECT_LT(r.balance, 0.01) << "energy balance residual / work of the boundaries";
+  const std::string rec = "damage_plate_200_at2_tension";
+  const std::string res = "200 x 200 points (dx = 1.5 mm), 2h = 5 mm, TL, no hourglass control, damping 600/s, "
+                          "dt 0.5 x Eq. 2.50, ramp 2.5 um per L/c_p to 40 um, bottom held, damage_commit: evaluation";
+  const std::string src = "thesis Sec. 4.3.2.1, Fig. 4.14 (300 x 300 points, 2h = 5 mm)";
+  auto rel = [](double m, double ref) { return std::abs(m - ref) / std::abs(ref); };
+  test::recordValidation({rec, "imposed displacement at onset, first D >= 0.1 [um]", onLow, thOnset,
+                          rel(onLow, thOnset), res, r.wall, "< 10 %", src});
+  test::recordValidation({rec, "imposed displacement at onset, first D >= 0.5 [um]", on, thOnset, rel(on, thOnset),
+                          res, r.wall, "recorded (threshold of the thesis not stated)", src});
+  test::recordValidation({rec, "imposed displacement at full crossing [um]", cross, thCross, rel(cross, thCross), res,
+                          r.wall, "recorded (gap documented in docs/damage.md)", src});
+  test::recordValidation({rec, "damaged width (D >= 0.5) at x = +-100 mm at crossing / 2h", r.widthCross / s.support,
+                          1.0, rel(r.widthCross / s.support, 1.0), res, r.wall, "< 15 %",
+                          "thesis Fig. 4.14c (width ~ 2h); issue 13 item 4"});
+  test::recordValidation({rec, "damaged width (D >= 0.5) over 70 <= |x| <= 140 mm at crossing / 2h",
+                          r.widthMeanCross / s.support, 1.0, rel(r.widthMeanCross / s.support, 1.0), res, r.wall,
+                          "recorded", "thesis Fig. 4.14c (width ~ 2h); issue 13 item 4"});
+  test::recordValidation({rec, "left-right asymmetry of D", r.asymmetry, 0.0, r.asymmetry, res, r.wall, "< 10 %",
+                          "thesis Sec. 4.3.2.1 (symmetric pattern)"});
+  test::recordValidation({rec, "energy balance residual / boundary work", r.balance, 0.0, r.balance, res, r.wall,
+                          "< 1 %", "Eqs. 4.25-4.26 with the boundary work"});
 }
