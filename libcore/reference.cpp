@@ -129,7 +129,13 @@ ReferenceSpec readReference(const ParameterSet& s, int dim) {
     r.value = s.real("value");
   }
   r.at = s.string("at", "end");
-  if (r.at != "end" && r.at != "max" && r.at != "min") {
+  if (r.at.rfind("first ", 0) == 0) {
+    // `at: first COLUMN`: the time of the first row where timeseries COLUMN is nonzero (an event
+    // such as drainage_percolated); checked against the timeseries when the run ends.
+    const std::size_t b = r.at.find_first_not_of(' ', 6);
+    if (b == std::string::npos || r.at.find(' ', b) != std::string::npos)
+      s.fail("at", "'first' takes one timeseries column, e.g. 'first drainage_percolated'");
+  } else if (r.at != "end" && r.at != "max" && r.at != "min") {
     double t = 0.0;
     std::size_t used = 0;
     try {
@@ -138,7 +144,7 @@ ReferenceSpec readReference(const ParameterSet& s, int dim) {
       used = 0;
     }
     if (used == 0 || used != r.at.size() || !(t >= 0.0))
-      s.fail("at", "expected end, max, min or a time in seconds (>= 0)");
+      s.fail("at", "expected end, max, min, first COLUMN or a time in seconds (>= 0)");
     r.atTime = t;
   }
   const std::string& q = r.quantity;
@@ -322,7 +328,27 @@ ReferenceResult evaluateReference(const Scene& scene, const std::string& timeser
     } else if (ref.at == "min") {
       m = *std::min_element(y.begin(), y.end());
     } else {
-      if (ref.atTime < t.front() - 1e-12 || ref.atTime > t.back() + 1e-12 * std::max(1.0, t.back())) {
+      double atTime = ref.atTime;
+      if (ref.at.rfind("first ", 0) == 0) {
+        // The time of the event: the first row where the event column is nonzero.
+        const std::string event = ref.at.substr(ref.at.find_first_not_of(' ', 6));
+        std::vector<double> te, ye;
+        if (!readColumn(timeseries, event, te, ye, why)) {
+          out.note = why;
+          return out;
+        }
+        atTime = -1.0;
+        for (size_t k = 0; k < ye.size(); ++k)
+          if (std::isfinite(ye[k]) && ye[k] != 0.0) {
+            atTime = te[k];
+            break;
+          }
+        if (atTime < 0.0) {
+          out.note = "at: " + ref.at + ": '" + event + "' is 0 in every row (the event did not happen by the end of the run)";
+          return out;
+        }
+      }
+      if (atTime < t.front() - 1e-12 || atTime > t.back() + 1e-12 * std::max(1.0, t.back())) {
         std::ostringstream o;
         o << "at: " << ref.at << " s lies outside the timeseries (" << t.front() << " .. "
           << t.back() << " s)";
@@ -331,8 +357,8 @@ ReferenceResult evaluateReference(const Scene& scene, const std::string& timeser
       }
       m = y.back();
       for (size_t k = 1; k < t.size(); ++k)
-        if (t[k] >= ref.atTime) {
-          const double f = t[k] > t[k - 1] ? (ref.atTime - t[k - 1]) / (t[k] - t[k - 1]) : 1.0;
+        if (t[k] >= atTime) {
+          const double f = t[k] > t[k - 1] ? (atTime - t[k - 1]) / (t[k] - t[k - 1]) : 1.0;
           m = y[k - 1] + f * (y[k] - y[k - 1]);
           break;
         }

@@ -62,7 +62,8 @@ def main():
     lo, hi = min(errs), max(errs)
     ymin, ymax = lo / 3.0, hi * 3.0
     ymax_band = ymax * 10.0
-    walls = [num(r[cost]) for r in rows if num(r[cost]) > 0 and r["healthy"] == "1"] or [1.0]
+    # Every run with a cost sets the range, failed ones too (a run refused at once costs ~0.1 s).
+    walls = [num(r[cost]) for r in rows if num(r[cost]) > 0] or [1.0]
     xmin, xmax = min(walls) / 1.5, max(walls) * 1.5
     if pos:
         ax.scatter([num(r[cost]) for r in pos], errs, s=36, c="tab:blue", zorder=3,
@@ -84,7 +85,7 @@ def main():
         for k, r in enumerate(bad):
             w = num(r[cost])
             w = w if w > 0 else xmin * 1.1
-            y = ymax * (2.0 + 5.0 * (k % 3) / 3.0)
+            y = ymax * (ymax_band / ymax) ** ((k + 0.5) / len(bad))  # one level each, log-spaced
             ax.scatter([w], [y], marker="x", s=60, c="tab:red", zorder=3,
                        label="unstable or failed" if k == 0 else None)
             ax.annotate(label(r) + " (" + r["status"].split(" - ")[0] + ")", (w, y), textcoords="offset points",

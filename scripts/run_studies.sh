@@ -3,14 +3,14 @@
 #
 #   scripts/run_studies.sh [--out DIR] [NAME ...]       (default DIR: runs/studies; all studies)
 #
-# NAME: bar, bar_edge, droplet, droplet_edge, spurious, spurious_form, lame, lame_edge, entry. Each runs
+# NAME: bar, bar_edge, droplet, droplet_edge, spurious, spurious_form, lame, lame_edge, entry, drainage, drainage_edge. Each runs
 # `poresph study` on one thread (OMP_NUM_THREADS=1, --threads 1) into DIR/NAME and copies its
 # DIR/NAME/study.png to docs/img/study_NAME.png. Run from the repository root after a build.
 set -u
 out=runs/studies
 if [ "${1:-}" = "--out" ]; then out=$2; shift 2; fi
 names=("$@")
-[ ${#names[@]} -eq 0 ] && names=(bar bar_edge droplet droplet_edge spurious spurious_form lame lame_edge entry)
+[ ${#names[@]} -eq 0 ] && names=(bar bar_edge droplet droplet_edge spurious spurious_form lame lame_edge entry drainage drainage_edge)
 exe=build/poresph
 export OMP_NUM_THREADS=1
 study() {  # NAME SCENE ARGS...
@@ -46,6 +46,11 @@ for n in "${names[@]}"; do
       study lame_edge studies/lame.yaml --vary cfl=0.5,1.0 --vary h_over_dx=0.6,0.8,1.3 ;;
     entry)     # gas penetration into the slit against the finest run
       study entry studies/capillary_entry.yaml --vary spacing=2e-4,1e-4,5e-5 ;;
-    *) echo "unknown study '$n' (bar, bar_edge, droplet, droplet_edge, spurious, spurious_form, lame, lame_edge, entry)"; exit 2 ;;
+    drainage)  # gas saturation of a drained throat at percolation against the finest run
+      study drainage studies/drainage_throat.yaml --vary spacing=1e-4,6.25e-5,5e-5 ;;
+    drainage_edge) # the gas : water density ratio against the gas' sound speed at dx = 1e-4
+      study drainage_edge studies/drainage_throat.yaml --vary materials.gas.density=1000,100,10 \
+        --vary materials.gas.sound_speed=4,12.65,40 ;;
+    *) echo "unknown study '$n' (bar, bar_edge, droplet, droplet_edge, spurious, spurious_form, lame, lame_edge, entry, drainage, drainage_edge)"; exit 2 ;;
   esac
 done

@@ -175,7 +175,11 @@ TEST(Reference, SectionParsedAndRefused) {
   const std::string atMax = errorOf([] { tinyScene("reference: {quantity: laplace_jump, centre: [0.5], radius: 0.2, at: max}\n"); });
   EXPECT_NE(atMax.find("only at: end"), std::string::npos) << atMax;
   const std::string badAt = errorOf([] { tinyScene("reference: {quantity: kinetic_energy, at: later}\n"); });
-  EXPECT_NE(badAt.find("expected end, max, min or a time"), std::string::npos) << badAt;
+  EXPECT_NE(badAt.find("expected end, max, min, first COLUMN or a time"), std::string::npos) << badAt;
+  const std::string badFirst = errorOf([] { tinyScene("reference: {quantity: kinetic_energy, at: first a b}\n"); });
+  EXPECT_NE(badFirst.find("'first' takes one timeseries column"), std::string::npos) << badFirst;
+  const std::string firstOfState = errorOf([] { tinyScene("reference: {quantity: laplace_jump, centre: [0.5], radius: 0.2, at: first x}\n"); });
+  EXPECT_NE(firstOfState.find("only at: end"), std::string::npos) << firstOfState;
   const std::string missing = errorOf([] { tinyScene("reference: {quantity: hoop_stress, centre: [0.0]}\n"); });
   EXPECT_NE(missing.find("needs a 2D or 3D scene"), std::string::npos) << missing;
 }
@@ -231,11 +235,14 @@ TEST(Reference, TimeseriesQuantities) {
   const fs::path csv = fs::temp_directory_path() / ("test_study_ts_" + std::to_string(getpid()) + ".csv");
   {
     std::ofstream f(csv);
-    f << "time,step,foo\n";
+    // ev: an event column (0 before t = 0.0925 s, a quarter period, then 1, as drainage_percolated
+    // switches); never: one that stays 0.
+    f << "time,step,foo,ev,never\n";
     const double T = 0.37;
     for (int k = 0; k <= 400; ++k) {
       const double t = 0.005 * k;
-      f << t << "," << k << "," << 3.0 + std::sin(2 * M_PI * t / T) << "\n";
+      f << t << "," << k << "," << 3.0 + std::sin(2 * M_PI * t / T) << "," << (k >= 19 ? 1 : 0)
+        << ",0\n";
     }
   }
   auto eval = [&](const std::string& ref) {
@@ -254,6 +261,15 @@ TEST(Reference, TimeseriesQuantities) {
   r = eval("reference: {quantity: foo, at: 0.0925, value: 4.0}\n");  // a quarter period
   EXPECT_NEAR(r.measured, 4.0, 1e-3);
   EXPECT_LT(r.error, 1e-3);
+  r = eval("reference: {quantity: foo, at: first ev}\n");  // the row of t = 0.095 s
+  ASSERT_TRUE(r.ok) << r.note;
+  EXPECT_NEAR(r.measured, 3.0 + std::sin(2 * M_PI * 0.095 / 0.37), 1e-5);  // as written (6 digits)
+  r = eval("reference: {quantity: foo, at: first never}\n");
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.note.find("did not happen"), std::string::npos) << r.note;
+  r = eval("reference: {quantity: foo, at: first nope}\n");
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.note.find("no column 'nope'"), std::string::npos) << r.note;
   r = eval("reference: {quantity: foo, at: 50}\n");
   EXPECT_FALSE(r.ok);
   EXPECT_NE(r.note.find("outside the timeseries"), std::string::npos) << r.note;
