@@ -26,6 +26,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -87,6 +88,10 @@ inline std::string entryScene(double ratio, bool fixedWalls, const std::string& 
   std::snprintf(g, sizeof g, "gravity: [%.12g, 0]", ratio * threshold());
   replaceOnce(t, "gravity: [4.583333333333333, 0]", g);
   replaceOnce(t, "fluid_solid: extrapolated", "fluid_solid: " + model);
+  if (const char* gm = std::getenv("SLIT_ENTRY_GAMMA"))  // study hook: the surface tension
+    replaceOnce(t, "surface_tension: 0.05", std::string("surface_tension: ") + gm);
+  if (const char* hg = std::getenv("SLIT_ENTRY_HOURGLASS"))  // study hook: the clay's hourglass
+    replaceOnce(t, "hourglass: 1,", std::string("hourglass: ") + hg + ",");
   if (fixedWalls) {
     t = t.substr(0, t.find("\nsolid:")) + "\n";
     dropLinesWith(t, "coupling:");
