@@ -53,6 +53,7 @@ EntryRun runEntry(double ratio, bool fixedWalls, const std::string& model = "ext
   const bool rows = std::getenv("SLIT_ENTRY_ROWS") != nullptr;
   std::vector<double> rowU(10, 0.0), rowSyy(10, 0.0), rowSxx(10, 0.0);
   std::vector<long> rowN(10, 0);
+  std::vector<double> rowF(10, 0.0);  // the pairs' y force on each row (face middle), per length
   double forceMid = 0.0, forceAll = 0.0, gapSum = 0.0;
   long gapN = 0;
   while (!s.finished()) {
@@ -96,7 +97,11 @@ EntryRun runEntry(double ratio, bool fixedWalls, const std::string& model = "ext
           if (X[2 * i] < se::kXs || X[2 * i] > se::kXs + se::kLs) continue;
           const double fy = m[i] * acc[2 * i + 1];
           all += fy;
-          if (X[2 * i] > se::kXs + 3e-4 && X[2 * i] < se::kXs + se::kLs - 3e-4) mid += fy;
+          if (X[2 * i] > se::kXs + 3e-4 && X[2 * i] < se::kXs + se::kLs - 3e-4) {
+            mid += fy;
+            const int row = static_cast<int>(std::floor(X[2 * i + 1] / sim.spacing));
+            if (row >= 0 && row < 10) rowF[static_cast<size_t>(row)] -= fy / (se::kLs - 6e-4);
+          }
         }
         // The gap between the lower block's wet row and the first fluid row above it (face
         // middle): dx on a lattice continued across the face.
@@ -141,9 +146,10 @@ EntryRun runEntry(double ratio, bool fixedWalls, const std::string& model = "ext
                 "(face pressure %.2f Pa); first fluid row above the wet row by %.4f dx\n", forceMid / n,
                 forceAll / n, r.pFace / n, gapN > 0 ? gapSum / gapN : 0.0);
   for (int row = 0; rows && row < 10; ++row)
-    std::printf("  row Y = %.2f mm: u_y %+.3f um, -sigma_yy %.2f Pa, -sigma_xx %.2f Pa\n",
+    std::printf("  row Y = %.2f mm: u_y %+.3f um, -sigma_yy %.2f Pa, -sigma_xx %.2f Pa, pairs' y force "
+                "(face middle) %.4f of the total\n",
                 (row + 0.5) * sim.spacing * 1e3, 1e6 * rowU[row] / rowN[row], rowSyy[row] / rowN[row],
-                rowSxx[row] / rowN[row]);
+                rowSxx[row] / rowN[row], forceMid != 0.0 ? rowF[row] / forceMid : 0.0);
   // The odd-even mode: the largest deviation of the rows 1-8 (reference Y = 0.05 ... 0.75 mm) from
   // their least-squares line, and the wet row (Y = 0.95 mm) against that line carried on to it,
   // both relative to the line's value at the wet row.
