@@ -209,6 +209,7 @@ class FluidModule : public Module {
   double wettingScale_ = 0.15;      // wall Shepard fraction at which the normal is fully prescribed
   bool wettingGhost_ = false;       // wetting_ghost: walls' ghost colour completes |n| at the contact line
   bool wideWallNormal_ = false;     // wall_normal: wide (fixed walls' normal over 2h, set-up)
+  bool wettingCurved_ = false;      // wetting_curvature: the prescribed normal follows the meniscus' curvature above the wall
   double densityDiffusion_ = 0.0;   // delta of the Molteni-Colagrossi term (0: off)
   bool normaliseViscosity_ = true;  // divide 5.4 by the discrete second moment
   double artificialViscosity_ = 0.0;  // alpha of Eq. 2.64 (0: off)

@@ -24,6 +24,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
 #include <fstream>
 #include <limits>
@@ -62,7 +63,10 @@ struct CurvedSessile {
       const double halfX = Rc + 1.5 * R0, top = Rc + 2.5 * R0;
       Bx = std::ceil((2.0 * (halfX + w)) / dx + 1) * dx;
       By = std::ceil((top + 2.0 * w) / dx + 1) * dx;
-      C = Eigen::Vector2d(halfX + w + 0.37 * dx, w + 0.21 * dx);
+      // probe hook WETTING_PROBE_OFFSET_Y (issue 14): another vertical lattice offset of the
+      // cylinder (where the voxel steps near its top fall relative to the drop's contact line)
+      const char* oy = std::getenv("WETTING_PROBE_OFFSET_Y");
+      C = Eigen::Vector2d(halfX + w + 0.37 * dx, w + (oy ? std::atof(oy) : 0.21) * dx);
     } else {
       Bx = By = std::ceil((2.0 * (Rc + w)) / dx + 2) * dx;
       C = Eigen::Vector2d(Rc + w + 0.87 * dx, Rc + w + 0.71 * dx);

@@ -20,7 +20,7 @@
 using namespace poresph;
 
 namespace {
-void check(double theta) {
+void check(double theta, double tolerance = 5.0) {
   const auto r = test::runWettingAverage(theta, 0.0, 10, 0.12, 0.01, test::kWettingGhostSettings);
   char cs[96], res[240];
   std::snprintf(cs, sizeof cs, "fluid_wetting_flat_theta%.0f_R10", theta);
@@ -29,9 +29,11 @@ void check(double theta) {
                 "p_b = 100 Pa, mean over 60-120 ms (%.1f to %.1f), %lld steps",
                 r.lo, r.hi, r.steps);
   test::recordValidation({cs, "contact angle (degrees), circle fit above 2 dx, time mean", r.mean, theta,
-                          std::abs(r.mean - theta) / theta, res, r.wall, "|error| < 5 degrees",
-                          "prescribed wall angle (Eq. 1.10), wetting: normal with ghost colour, wetting_scale 0.05"});
-  EXPECT_NEAR(r.mean, theta, 5.0);
+                          std::abs(r.mean - theta) / theta, res, r.wall,
+                          tolerance == 5.0 ? "|error| < 5 degrees" : "|error| < 2.5 degrees",
+                          "prescribed wall angle (Eq. 1.10), wetting: normal with ghost colour, wetting_scale 0.05, "
+                          "wetting_curvature"});
+  EXPECT_NEAR(r.mean, theta, tolerance);
   // the end state is a cap, not a film or a detached drop: the cap angle (height and area) agrees
   EXPECT_NEAR(r.cap, theta, 10.0);
 }
@@ -39,6 +41,12 @@ void check(double theta) {
 
 TEST(FluidWettingAngles, Thirty) { check(30.0); }
 TEST(FluidWettingAngles, OneHundredFifty) { check(150.0); }
+// 120 degrees (issue 14, 2026-11-27): with theta prescribed at every height of the ~2 dx band
+// near the wall the 120-degree caps (r ~ 8 dx at R0/dx 10) read ~+4 degrees high on every wall
+// (flat 123.87, cap reading 125.1); with wetting_curvature (the prescribed normal follows the
+// circle that meets the wall at theta) 120.44 (~17 s CPU). Asserted within 2.5 degrees, tighter
+// than the issue's 5, so that the bias (3.9) fails the test.
+TEST(FluidWettingAngles, OneHundredTwentyWithoutTheFootBias) { check(120.0, 2.5); }
 
 // Wall on a voxel staircase (issue 14 "Wetting on real walls"): the wall tilted by 15 degrees
 // to the lattice (steps 3.7 dx long), where the local wall normal (the gradient of the wall
