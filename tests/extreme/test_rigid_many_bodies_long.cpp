@@ -30,47 +30,9 @@
 #include "libcore/phases.hpp"
 #include "libcore/scene.hpp"
 #include "physics/rigid/rigid_module.hpp"
+#include "tests/extreme/rigid_many_bodies_case.hpp"
 
 using namespace poresph;
-
-namespace {
-
-/// Smallest distance between particles of different bodies (cell list of side 2 dx: exact below
-/// 2 dx).
-double minBodyGap(const Simulation& sim) {
-  const ParticleStore& st = sim.store;
-  const std::int32_t* body = st.data(st.integer("body"));
-  const double* x = st.data(st.position());
-  const double dx = 2.0 * sim.spacing;
-  const Index n = st.realCount();
-  std::vector<std::pair<long long, Index>> cells;
-  for (Index i = 0; i < n; ++i)
-    if (body[i] >= 0) {
-      const long long cx = static_cast<long long>(std::floor(x[2 * i] / dx));
-      const long long cy = static_cast<long long>(std::floor(x[2 * i + 1] / dx));
-      cells.emplace_back((cx + 100000) * 200000 + (cy + 100000), i);
-    }
-  std::sort(cells.begin(), cells.end());
-  auto range = [&](long long key) {
-    auto lo = std::lower_bound(cells.begin(), cells.end(), std::make_pair(key, Index(-1)));
-    auto hi = std::upper_bound(cells.begin(), cells.end(), std::make_pair(key, std::numeric_limits<Index>::max()));
-    return std::make_pair(lo, hi);
-  };
-  double gap = 1e300;
-  for (const auto& [key, i] : cells)
-    for (long long ox = -1; ox <= 1; ++ox)
-      for (long long oy = -1; oy <= 1; ++oy) {
-        const auto [lo, hi] = range(key + ox * 200000 + oy);
-        for (auto it = lo; it != hi; ++it) {
-          const Index j = it->second;
-          if (body[j] == body[i]) continue;
-          gap = std::min(gap, std::hypot(x[2 * i] - x[2 * j], x[2 * i + 1] - x[2 * j + 1]));
-        }
-      }
-  return gap;
-}
-
-}  // namespace
 
 TEST(RigidManyBodies, ThousandGrainsSettleIntoAPileInAWallBox) {
   const double g = 98.1, dx = 1e-3;
@@ -110,10 +72,10 @@ TEST(RigidManyBodies, ThousandGrainsSettleIntoAPileInAWallBox) {
   while (!s.finished()) {
     integrator->step(sim, s.nextTimeStep());
     ++steps;
-    if (steps % 500 == 0) gapMin = std::min(gapMin, minBodyGap(sim));
+    if (steps % 500 == 0) gapMin = std::min(gapMin, test::minBodyGap2D(sim));
   }
   const double cpu = (static_cast<double>(std::clock()) - c0) / CLOCKS_PER_SEC;
-  gapMin = std::min(gapMin, minBodyGap(sim));
+  gapMin = std::min(gapMin, test::minBodyGap2D(sim));
   double ke = 0.0, y1 = 0.0, fy = 0.0, xmin = 1e300, xmax = -1e300, ymin = 1e300;
   bool finite = true;
   for (const RigidBody& b : bodies) {
