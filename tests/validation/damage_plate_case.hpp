@@ -59,6 +59,9 @@ struct PlateSetup {
   /// small_strain_stress (the thesis' infinitesimal strain, but its stress form: docs/solid.md)
   std::string formulation = "total_lagrangian";
   std::string plane = "strain";  ///< plane strain or stress (the thesis does not say)
+  /// after the ramp, hold the imposed displacement for so many L / c_p (quasi-static test: does
+  /// the crack cross at a fixed load?)
+  double holdCrossings = 0.0;
 };
 
 struct PlateResult {
@@ -74,6 +77,9 @@ struct PlateResult {
   double widthCross = 0.0;  ///< the same when the crack first reached both sides
   /// at the crossing, the width (D >= threshold) averaged over the columns 70 <= |x| <= 140 mm
   double widthMeanCross = 0.0;
+  /// time after the end of the ramp at which the crack reached both sides, in L / c_p (0: during
+  /// the ramp or never)
+  double holdCross = 0.0;
   double balance = 0.0;     ///< energy balance residual / work in
   double dissipated = 0.0;  ///< released energy [J per m of thickness]
   double dmax = 0.0;
@@ -253,8 +259,9 @@ inline PlateResult runPlate(const PlateSetup& s) {
   };
   bool onset = false, crossed = false;  // (u < 0 in compression)
   r.uOnset = r.uCross = 0.0;
-  while (sim.time < ramp * (1 - 1e-9)) {
-    integrator->step(sim, std::min(dt, ramp - sim.time));
+  const double tEnd = ramp + s.holdCrossings * L / c;
+  while (sim.time < tEnd * (1 - 1e-9)) {
+    integrator->step(sim, std::min(dt, (sim.time < ramp * (1 - 1e-9) ? ramp : tEnd) - sim.time));
     ++r.steps;
     if (rigid) {
       double ux = 0.0, uy = 0.0, rot = 0.0;
@@ -262,7 +269,7 @@ inline PlateResult runPlate(const PlateSetup& s) {
       r.bodyUyMax = std::max(r.bodyUyMax, uy);
     }
     if (s.law.empty()) continue;  // elastic reference run (no damage field)
-    const double u = s.uMax * sim.time / ramp;
+    const double u = s.uMax * std::min(1.0, sim.time / ramp);
     const double* D = sim.store.data(sim.store.real("damage"));
     bool left = false, right = false;
     const double crossD = s.crossThreshold < 0.0 ? s.threshold : s.crossThreshold;
@@ -301,6 +308,7 @@ inline PlateResult runPlate(const PlateSetup& s) {
     if (left && right && !crossed) {
       crossed = true;
       r.uCross = u;
+      if (sim.time > ramp * (1 + 1e-9)) r.holdCross = (sim.time - ramp) * c / L;
       double asym = 0.0;
       measure(asym, r.widthCross);
       r.widthMeanCross = widthMean;

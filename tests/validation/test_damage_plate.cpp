@@ -5,7 +5,8 @@
 // PORESPH_PLATE_AV = alpha,beta of the artificial viscosity, PORESPH_PLATE_CROSS = D,depth in dx
 // of the crossing measure, PORESPH_PLATE_COMMIT = step_end or evaluation, default evaluation, PORESPH_PLATE_RECORD = case name of
 // validation records of the run, PORESPH_PLATE_FORM = total_lagrangian (default) or small_strain_stress,
-// PORESPH_PLATE_PLANE = strain (default) or stress) is the driver of the studies quoted in docs/damage.md.
+// PORESPH_PLATE_PLANE = strain (default) or stress, PORESPH_PLATE_HOLD = L/c_p to hold the end
+// displacement after the ramp) is the driver of the studies quoted in docs/damage.md.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -40,13 +41,15 @@ TEST(DamagePlate, Explore) {
   if (const char* c = std::getenv("PORESPH_PLATE_COMMIT")) s.damageCommit = c;
   if (const char* c = std::getenv("PORESPH_PLATE_FORM")) s.formulation = c;
   if (const char* c = std::getenv("PORESPH_PLATE_PLANE")) s.plane = c;
+  if (const char* c = std::getenv("PORESPH_PLATE_HOLD")) s.holdCrossings = std::atof(c);
   if (lawName == "none") s.law.clear();
   const PlateResult r = runPlate(s);
   std::printf("%s, plane %s, commit %s: crossing at D >= 0.1 / 0.5 / 0.9 / 0.99 within %g dx of the sides: "
-              "%.2f / %.2f / %.2f / %.2f um, mean width (70-140 mm) at crossing %.2f mm\n",
+              "%.2f / %.2f / %.2f / %.2f um, mean width (70-140 mm) at crossing %.2f mm, hold %g L/c_p: "
+              "crossed %.2f L/c_p after the ramp's end\n",
               s.formulation.c_str(), s.plane.c_str(), s.damageCommit.c_str(), s.crossDepth,
               1e6 * r.uCrossAt[0], 1e6 * r.uCrossAt[1], 1e6 * r.uCrossAt[2], 1e6 * r.uCrossAt[3],
-              1e3 * r.widthMeanCross);
+              1e3 * r.widthMeanCross, s.holdCrossings, r.holdCross);
   std::printf("dx %g 2h %g u %g ramp %g damp %g hg %g %s: %ld particles %ld steps (dt %.4g s), onset u = %.2f um at "
               "(%.1f, %.1f) mm, onset D >= %g u = %.2f um at (%.1f, %.1f) mm, crossing %.2f um, asym %.3f, "
               "width %.1f mm (crossing %.1f), Dmax %.3f, diss %.3g, balance %.3g, clipped %ld, %.1f s\n",
