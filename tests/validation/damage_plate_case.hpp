@@ -43,6 +43,9 @@ struct PlateSetup {
   double lowThreshold = 0.1;  ///< a second onset: the first particle at D >= lowThreshold
   std::string dump;           ///< CSV of X, Y, D at the end (and at onset/crossing: suffixed)
   bool clampBottom = false;   ///< also hold the bottom layer (one support deep) at u = 0
+  /// with clampBottom: hold the bottom layer along y only (a roller, x free, as the top), so its
+  /// ends are no clamped corners (a free rigid inclusion, issue 15 validation 5)
+  bool bottomRoller = false;
   long maxSteps = -1;         ///< stop after so many steps (cost measurements), -1: the whole ramp
   Inclusion inclusion = Inclusion::Clamped;
   double bodyDamping = 600.0; ///< 1/s, the free body's `damping` (as the clay's: quasi-static)
@@ -154,9 +157,15 @@ inline PlateResult runPlate(const PlateSetup& s) {
   const double c = std::sqrt(E * (1 - nu) / ((1 + nu) * (1 - 2 * nu)) / rho);
   const double ramp = s.rampCrossings * L / c;
   char bottomBuf[200];
-  std::snprintf(bottomBuf, sizeof bottomBuf,
-                "{name: bottom, type: clamped, box: {min: [-1, -1], max: [1, %.9g]}}, ",
-                -0.5 * L + s.support);
+  if (s.bottomRoller)
+    std::snprintf(bottomBuf, sizeof bottomBuf,
+                  "{name: bottom, type: displacement, displacement: [0, 0], components: [y], "
+                  "ramp_time: %.9g, box: {min: [-1, -1], max: [1, %.9g]}}, ",
+                  ramp, -0.5 * L + s.support);
+  else
+    std::snprintf(bottomBuf, sizeof bottomBuf,
+                  "{name: bottom, type: clamped, box: {min: [-1, -1], max: [1, %.9g]}}, ",
+                  -0.5 * L + s.support);
   const std::string bottom = bottomBuf;
   const std::string commitKey = s.law.empty() ? "" : "damage_commit: " + s.damageCommit + ", ";
   std::snprintf(buf, sizeof buf,

@@ -16,6 +16,7 @@
 
 #include "tests/support/validation_record.hpp"
 #include "tests/validation/damage_plate_case.hpp"
+#include "tests/validation/rigid_damage_plate_case.hpp"
 
 using namespace poresph;
 using namespace poresph::solid::plate;
@@ -63,37 +64,6 @@ TEST(RigidDamagePlate, Probe) {
   if (const char* u = std::getenv("RIGID_PLATE_UMAX")) s.uMax = std::atof(u);
   print(k, runPlate(s));
 }
-
-namespace {
-
-/// The crack beside the inclusion at crossing: the damaged particles (D >= 0.5) with |X| > from
-/// (the ligaments between the inclusion and the sides): their mean height Y [m] and the fraction
-/// of them within `band` of the height yBand or -yBand (the inclusion's top or bottom).
-struct Crack {
-  double height = 1e300, inBand = 0.0;
-  long count = 0;
-};
-Crack crackBeside(const PlateResult& r, double dx, double from, double yBand, double band) {
-  const int n = r.gridN;
-  Crack c;
-  double sum = 0.0;
-  long inside = 0;
-  for (int iy = 0; iy < n; ++iy)
-    for (int ix = 0; ix < n; ++ix) {
-      const double X = (ix + 0.5) * dx - 0.15, Y = (iy + 0.5) * dx - 0.15;
-      if (std::abs(X) <= from || r.gridCross[static_cast<size_t>(iy) * n + ix] < 0.5) continue;
-      sum += Y;
-      ++c.count;
-      inside += std::min(std::abs(Y - yBand), std::abs(Y + yBand)) < band;
-    }
-  if (c.count > 0) {
-    c.height = sum / static_cast<double>(c.count);
-    c.inBand = static_cast<double>(inside) / static_cast<double>(c.count);
-  }
-  return c;
-}
-
-}  // namespace
 
 // Validation 5 of issue 15. Three runs of the coarse plate: the damage module's clamped material
 // (the fixed-inclusion reference), the rigid body held (`fixed: true`: the same boundary, but the
