@@ -53,12 +53,15 @@ struct FluidFluidAccel {
 /// (grad W = grad_a W_ab = F r_ab). The one implementation of the terms listed at the top of this
 /// file, branch-free (selects) so that the block loop of fluid_half.cpp vectorises, for Real =
 /// double or float; fluidFluidPair below (the gather loop and the scalar half loop) calls it with
-/// double. vr = v_ab . r_ab, F the kernel's F(|r_ab|), r2 = |r_ab|^2.
+/// double. vr = v_ab . r_ab, F the kernel's F(|r_ab|), r2 = |r_ab|^2. kArtificial = false
+/// (artificial_viscosity 0, the default) leaves out Eq. 2.64, whose Pi is then exactly 0: the
+/// scalar loops call it so (two divisions per pair that eae9733 had made unconditional: 14 % of
+/// the 2D two-phase step, docs/performance.md); the vectorised block keeps the one branch-free form.
 template <class Real>
 struct FluidFluidCoefficients {
   Real pressureA, viscousA, artificialA, pressureB, viscousB, artificialB;
 };
-template <class Real, bool kHuAdams>
+template <class Real, bool kHuAdams, bool kArtificial = true>
 inline FluidFluidCoefficients<Real> fluidFluidCoefficients(
     Real F, Real vr, Real r2, const FluidPairParticleT<Real>& a, const FluidPairParticleT<Real>& b,
     Real muBar, Real fab, Real pOff, Real alpha, Real h) {
@@ -79,10 +82,14 @@ inline FluidFluidCoefficients<Real> fluidFluidCoefficients(
     c.viscousB = -(fab * muBar * a.V * F / b.rho);
   }
   // Eq. 2.64 (alpha = 0: Pi = 0)
-  const Real Pi = artificialViscosityPiBlend<Real>(vr, r2, h, alpha, Real(0), a.soundSpeed,
-                                                   b.soundSpeed, a.rho, b.rho);
-  c.artificialA = -(b.m * Pi);
-  c.artificialB = a.m * Pi;
+  if constexpr (kArtificial) {
+    const Real Pi = artificialViscosityPiBlend<Real>(vr, r2, h, alpha, Real(0), a.soundSpeed,
+                                                     b.soundSpeed, a.rho, b.rho);
+    c.artificialA = -(b.m * Pi);
+    c.artificialB = a.m * Pi;
+  } else {
+    c.artificialA = c.artificialB = Real(0);
+  }
   return c;
 }
 
@@ -94,9 +101,15 @@ inline void fluidFluidPair(const Vec<D>& r, const Vec<D>& gradW, double F, const
                            double fab, const FluidFluidOptions& o, FluidFluidAccel<D>& ta,
                            FluidFluidAccel<D>& tb) {
   const double vr = vab.dot(r), r2 = r.squaredNorm();
+  // alpha = 0: no Pi (it is exactly 0 then, and the sums it feeds stay +0 either way, so the
+  // result is bit for bit that of the branch-free form)
+  const bool av = o.alpha > 0.0;
   const FluidFluidCoefficients<double> c =
-      o.huAdams ? fluidFluidCoefficients<double, true>(F, vr, r2, a, b, muBar, fab, o.pOff, o.alpha, o.h)
-                : fluidFluidCoefficients<double, false>(F, vr, r2, a, b, muBar, fab, o.pOff, o.alpha, o.h);
+      o.huAdams
+          ? (av ? fluidFluidCoefficients<double, true, true>(F, vr, r2, a, b, muBar, fab, o.pOff, o.alpha, o.h)
+                : fluidFluidCoefficients<double, true, false>(F, vr, r2, a, b, muBar, fab, o.pOff, o.alpha, o.h))
+          : (av ? fluidFluidCoefficients<double, false, true>(F, vr, r2, a, b, muBar, fab, o.pOff, o.alpha, o.h)
+                : fluidFluidCoefficients<double, false, false>(F, vr, r2, a, b, muBar, fab, o.pOff, o.alpha, o.h));
   ta.pressure = c.pressureA * gradW;
   ta.viscous = c.viscousA * vab;
   ta.artificial = c.artificialA * gradW;
