@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstring>
 #include <iostream>
+#include <limits>
 #include <sstream>
 
 #include "libcore/artificial_viscosity.hpp"
@@ -98,6 +99,24 @@ void FluidModule::configure(Simulation& sim, const std::vector<const Material*>&
                             "hu_adams"
                         ? PressureForm::HuAdams
                         : PressureForm::Symmetric;
+    // Eq. 5.2b between fluids of different rest densities (issue 16, docs/drainage.md "A lighter
+    // gas in the throat"): its term m_b p_a / rho_a^2 of a light particle a summed over heavy
+    // neighbours b is rho_heavy / rho_light times what light neighbours give, so at an interface
+    // the light phase is pushed off by its own (background) pressure within a few steps. The
+    // volume-weighted forms (Hu-Adams; the thesis' Eq. 5.2a) cancel at rest.
+    if (pressureForm_ == PressureForm::Symmetric) {
+      double lo = std::numeric_limits<double>::infinity(), hi = 0.0;
+      for (const MaterialData& md : mat_)
+        if (md.fluid) lo = std::min(lo, md.rho0), hi = std::max(hi, md.rho0);
+      if (hi > 2.0 * lo)
+        std::fprintf(stderr,
+                     "warning: %s: pressure_gradient symmetric (Eq. 5.2b) between fluids of "
+                     "densities %g and %g kg/m^3: a particle of the lighter fluid at their "
+                     "interface gets %gx its own-pressure term from its heavier neighbours and is "
+                     "thrown off within a few steps; use pressure_gradient: hu_adams "
+                     "(docs/drainage.md \"A lighter gas in the throat\")\n",
+                     s.where("pressure_gradient").c_str(), lo, hi, hi / lo);
+    }
     // Continuity pair term (libcore continuityTerm): Eq. 5.1a or the mass form, the
     // energy-consistent partner of 5.2b (docs/fluid.md "Energy-consistent continuity").
     continuityForm_ = s.choice("continuity_form", "volume", {"volume", "mass"}) == "mass"

@@ -564,3 +564,27 @@ TEST(FluidContinuity, MassFormConservesEnergyPairwiseVolumeFormDoesNot) {
     EXPECT_NE(w.find("masss"), std::string::npos) << w;
   }
 }
+
+// Eq. 5.2b between fluids of unequal rest density throws the lighter one off its interface within
+// a few steps (docs/drainage.md "A lighter gas in the throat"): the set-up warns, naming the key
+// and the remedy, and only then (ratio > 2 with the symmetric form).
+TEST(FluidConfig, SymmetricPressureGradientBetweenUnequalDensitiesWarns) {
+  auto warning = [](const std::string& form, double gasDensity) {
+    Simulation sim{2};
+    sim.spacing = 1e-3;
+    sim.kernel = Kernel(KernelType::WendlandC2, 2, 1.3e-3);
+    fs::addMaterial(sim, "water", "fluid", "{density: 1000, sound_speed: 5, viscosity: 1.0e-3, colour: 1}");
+    fs::addMaterial(sim, "gas", "fluid",
+                    "{density: " + std::to_string(gasDensity) + ", sound_speed: 50, viscosity: 1.0e-5, colour: -1}");
+    testing::internal::CaptureStderr();
+    fs::addFluidModule(sim, "{pressure_gradient: " + form + "}");
+    return testing::internal::GetCapturedStderr();
+  };
+  const std::string light = warning("symmetric", 10.0);
+  EXPECT_NE(light.find("pressure_gradient"), std::string::npos) << light;
+  EXPECT_NE(light.find("100x"), std::string::npos) << light;
+  EXPECT_NE(light.find("use pressure_gradient: hu_adams"), std::string::npos) << light;
+  EXPECT_EQ(warning("hu_adams", 10.0), "");
+  EXPECT_EQ(warning("symmetric", 1000.0), "");
+  EXPECT_EQ(warning("symmetric", 600.0), "");  // ratio 1.67: below the warning's 2
+}
