@@ -1253,13 +1253,18 @@ void RigidModule::constraintsD(Simulation& sim) {
     time_ = sim.time;
     // The start-of-step acceleration of the kick in endOfStep is that of the evaluation before
     // the step's own one: the one whose accelerations the integrator's first kick gave every
-    // other particle (after a scene's set-up evaluation and the integrator's priming one, both
-    // at t = 0, the priming one; they differ where the fluid's wall pressure reads the body's
+    // other particle. Before the first step (a scene's set-up evaluation and the integrator's
+    // priming one, both at t = 0) each evaluation passes its result on here, so the first kick
+    // takes the priming one's (they differ where the fluid's wall pressure reads the body's
     // previous acceleration: measured, a one-time momentum jump of 2.4e-8 kg m/s per m in a
-    // viscous fluid with 1000 moving grains before this shift, none after).
-    B.accStart = B.acc;
-    B.alphaTorqueStart = B.alphaTorque;
-    B.started = true;
+    // viscous fluid with 1000 moving grains with the set-up one, none with the priming one).
+    // From the first step on endOfStep keeps the step's own (`started`, checkpointed), so the
+    // evaluations of a restart at the same time do not replace it: a restarted run repeats the
+    // uninterrupted one (tests DrainageRestart, Rigid.CheckpointRestartContinuesTheBodyExactly).
+    if (!B.started) {
+      B.accStart = B.acc;
+      B.alphaTorqueStart = B.alphaTorque;
+    }
     constrain(B, F, T, B.acc, B.alphaTorque);
   }
   // Rigid acceleration of each body particle: A + alpha x r + omega x (omega x r).
@@ -1297,18 +1302,17 @@ void RigidModule::endOfStep(Simulation& sim, double dt) {
     const RigidMaterial& rm = *materialOf(B.material);
     if (rm.fixed) continue;
     rigid::BodyState& s = B.state;
-    if (!B.started) {  // no evaluation yet: forces unknown
-      B.accStart = B.acc;
-      B.alphaTorqueStart = B.alphaTorque;
-    }
-    // (accStart: set by the evaluation before this step's, constraintsD)
-    // kick (forces at the start of the step), drift, kick (forces of the step's evaluation)
+    // kick (forces at the start of the step: accStart, the evaluation before this step's, see
+    // constraintsD), drift, kick (forces of the step's evaluation)
     s.V += 0.5 * dt * B.accStart;
     s.L += 0.5 * dt * B.alphaTorqueStart;
     s.X += dt * s.V;
     if (rm.rotate && dim_ > 1) s.rotateFree(dt);
     s.V += 0.5 * dt * B.acc;
     s.L += 0.5 * dt * B.alphaTorque;
+    B.accStart = B.acc;  // the next step's start: this step's evaluation
+    B.alphaTorqueStart = B.alphaTorque;
+    B.started = true;
   }
   dispatchDimension(dim_, [&](auto dc) { this->placeD<decltype(dc)::value>(sim, -1); });
 }
