@@ -695,7 +695,7 @@ std::string describeScene(const Scene& scene) {
     if (f.flags & kFieldOutput) flags += " output";
     if (f.flags & kFieldCheckpoint) flags += " checkpoint";
     if (f.flags & kFieldToGhosts) flags += " ghosts";
-    o << "  " << std::left << std::setw(24) << f.name << std::setw(5)
+    o << "  " << std::left << std::setw(24) << f.name << ' ' << std::setw(5)
       << (f.type == FieldType::Real ? "real" : "int") << std::right << std::setw(3) << f.components
       << " x " << std::left << std::setw(8)
       << (f.type == FieldType::Real ? "8 bytes" : "4 bytes") << " owner " << std::setw(10)
