@@ -10,7 +10,7 @@
 // ones once in libcore (fluidBoundaryPair): each side's term is the gather loop's expression with
 // r_ba = -r_ab (exact in floating point), so the two lists differ only in the order of the sums
 // (round-off; tests/unit/test_half_neighbour_list.cpp).
-// Eqs.: continuity 5.1a (or the mass form), pressure 5.2b (or Hu-Adams), viscosity 5.4 with the
+// Eqs.: continuity 5.1a (or the mass form), pressure 5.2b (or 5.2a, Hu-Adams), viscosity 5.4 with the
 // lattice normalisation, artificial viscosity 2.64-2.65, XSPH 2.66, wall extrapolation (Adami et
 // al. 2012), density summation (number-density form).
 #include <omp.h>
@@ -75,7 +75,7 @@ struct FluidFluidRun {
   bool harmonic = true, massForm = false, diffusion = false;
 };
 
-// The terms of the block's pairs (Eqs. 5.1a / mass form, 5.2b / Hu-Adams, 5.4, 2.64, density
+// The terms of the block's pairs (Eqs. 5.1a / mass form, 5.2b / 5.2a / Hu-Adams, 5.4, 2.64, density
 // diffusion; fluid_pair.hpp) into the block's output arrays. Branch-free: a vectorisable loop
 // (the continuity form is a template parameter: a select on a run-wide flag stops GCC 12's
 // if-conversion, the diffusion switch is a 0/1 factor).
@@ -87,7 +87,7 @@ struct FluidFluidRun {
 #else
 #define PORESPH_BLOCK_CLONES
 #endif
-template <class Real, int D, KernelType K, bool kHuAdams, bool kMass>
+template <class Real, int D, KernelType K, FluidPressureForm kForm, bool kMass>
 PORESPH_BLOCK_CLONES void fluidFluidBlockTerms(FluidFluidBlock<Real, D>& b, const FluidFluidRow& row,
                           const FluidFluidRun& run) {
   const Real kScale = Real(run.kernelScale), invH = Real(run.invH);
@@ -115,7 +115,7 @@ PORESPH_BLOCK_CLONES void fluidFluidBlockTerms(FluidFluidBlock<Real, D>& b, cons
     const Real fab = Real(0.5) * (fa + b.visc[q]);
     const FluidPairParticleT<Real> pb{b.m[q], b.rho[q], b.V[q], b.p[q], b.pRho2[q], b.c[q]};
     const FluidFluidCoefficients<Real> c =
-        fluidFluidCoefficients<Real, kHuAdams>(F, vr, r2, pa, pb, muBar, fab, pOff, alpha, h);
+        fluidFluidCoefficients<Real, kForm>(F, vr, r2, pa, pb, muBar, fab, pOff, alpha, h);
     for (int a = 0; a < D; ++a) {
       const Real gw = F * b.r[a][q];
       b.fA[a][q] = (c.pressureA * gw + c.viscousA * b.vab[a][q]) + c.artificialA * gw;
@@ -415,13 +415,13 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
   const MaterialData* md = mat_.data();
   const int nm = static_cast<int>(mat_.size());
   const double h = sim.kernel.h();
-  const bool huAdams = pressureForm_ == PressureForm::HuAdams;
+  const PressureForm pForm = pressureForm_;
   const double alpha = artificialViscosity_, delta = densityDiffusion_;
   const ContinuityForm form = continuityForm_;
   const FluidPairSettings pairSettings = sim.fluidPairSettings;
   const double* vol = vol_.data();
   const double* pRho2 = pRho2_.data();
-  const FluidFluidOptions ffOptions{huAdams, pOff, alpha, h};
+  const FluidFluidOptions ffOptions{pForm, pOff, alpha, h};
   Vec<D> g;
   for (int a = 0; a < D; ++a) g[a] = gravity_[static_cast<size_t>(a)];
 
@@ -533,12 +533,17 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
               blk.drho[q] = static_cast<Real>(rhoa - f.rho[j]);
               blk.same[q] = f.mt[j] == ida ? Real(1) : Real(0);
             }
-            if (huAdams)
-              kr.massForm ? fluidFluidBlockTerms<Real, D, kType, true, true>(blk, row, kr)
-                          : fluidFluidBlockTerms<Real, D, kType, true, false>(blk, row, kr);
+            constexpr auto kSym = FluidPressureForm::Symmetric, kHu = FluidPressureForm::HuAdams,
+                           kVol = FluidPressureForm::Volume;
+            if (pForm == kHu)
+              kr.massForm ? fluidFluidBlockTerms<Real, D, kType, kHu, true>(blk, row, kr)
+                          : fluidFluidBlockTerms<Real, D, kType, kHu, false>(blk, row, kr);
+            else if (pForm == kVol)
+              kr.massForm ? fluidFluidBlockTerms<Real, D, kType, kVol, true>(blk, row, kr)
+                          : fluidFluidBlockTerms<Real, D, kType, kVol, false>(blk, row, kr);
             else
-              kr.massForm ? fluidFluidBlockTerms<Real, D, kType, false, true>(blk, row, kr)
-                          : fluidFluidBlockTerms<Real, D, kType, false, false>(blk, row, kr);
+              kr.massForm ? fluidFluidBlockTerms<Real, D, kType, kSym, true>(blk, row, kr)
+                          : fluidFluidBlockTerms<Real, D, kType, kSym, false>(blk, row, kr);
             for (int q = 0; q < nb; ++q) {
               double* tb = scatter_.at(t, own, blk.j[q]);
               for (int a = 0; a < D; ++a) {
@@ -627,7 +632,7 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
               tb[kDiv] += tr.divergence;
             }
             if (!(fluidA && fluidB)) return;  // fluid-solid / fluid-rigid: the coupling's
-            // Fluid-fluid pair (Eqs. 5.1a, 5.2b / Hu-Adams, 5.4, 2.64): each side's term as the
+            // Fluid-fluid pair (Eqs. 5.1a, 5.2b / 5.2a / Hu-Adams, 5.4, 2.64): each side's term as the
             // gather loop writes it for that side.
             const int idb = f.mt[j];
             const MaterialData* mB = valid(idb) ? &md[idb] : nullptr;

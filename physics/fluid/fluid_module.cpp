@@ -95,10 +95,16 @@ void FluidModule::configure(Simulation& sim, const std::vector<const Material*>&
       }
     }
     summation_ = s.choice("density", "continuity", {"continuity", "summation"}) == "summation";
-    pressureForm_ = s.choice("pressure_gradient", "symmetric", {"symmetric", "hu_adams"}) ==
-                            "hu_adams"
-                        ? PressureForm::HuAdams
-                        : PressureForm::Symmetric;
+    // Pressure gradient of the fluid-fluid pairs (fluid_pair.hpp FluidPressureForm): Eq. 5.2b
+    // (symmetric), Hu-Adams, or Eq. 5.2a (volume, the energy-consistent partner of the continuity
+    // Eq. 5.1a; docs/fluid.md "Pressure gradient").
+    {
+      const std::string form =
+          s.choice("pressure_gradient", "symmetric", {"symmetric", "hu_adams", "volume"});
+      pressureForm_ = form == "hu_adams" ? PressureForm::HuAdams
+                      : form == "volume" ? PressureForm::Volume
+                                         : PressureForm::Symmetric;
+    }
     // Eq. 5.2b between fluids of different rest densities (issue 16, docs/drainage.md "A lighter
     // gas in the throat"): its term m_b p_a / rho_a^2 of a light particle a summed over heavy
     // neighbours b is rho_heavy / rho_light times what light neighbours give, so at an interface
@@ -113,8 +119,8 @@ void FluidModule::configure(Simulation& sim, const std::vector<const Material*>&
                      "warning: %s: pressure_gradient symmetric (Eq. 5.2b) between fluids of "
                      "densities %g and %g kg/m^3: a particle of the lighter fluid at their "
                      "interface gets %gx its own-pressure term from its heavier neighbours and is "
-                     "thrown off within a few steps; use pressure_gradient: hu_adams "
-                     "(docs/drainage.md \"A lighter gas in the throat\")\n",
+                     "thrown off within a few steps; use pressure_gradient: volume (Eq. 5.2a) "
+                     "or hu_adams (docs/drainage.md \"A lighter gas in the throat\")\n",
                      s.where("pressure_gradient").c_str(), lo, hi, hi / lo);
     }
     // Continuity pair term (libcore continuityTerm): Eq. 5.1a or the mass form, the
@@ -898,7 +904,7 @@ void FluidModule::forcesD(Simulation& sim) {
   const MaterialData* md = mat_.data();
   const int nm = static_cast<int>(mat_.size());
   const double h = W.h();
-  const bool huAdams = pressureForm_ == PressureForm::HuAdams;
+  const bool huAdams = pressureForm_ == PressureForm::HuAdams;  // the wall pairs and the balanced CSF
   Vec<D> g;
   for (int a = 0; a < D; ++a) g[a] = gravity_[static_cast<size_t>(a)];
 
@@ -966,7 +972,7 @@ void FluidModule::forcesD(Simulation& sim) {
   const double* vol = volW;
   const double* pRho2 = pRho2W;
   const double* wallRho = wallRhoW;
-  const FluidFluidOptions ffOptions{huAdams, pOff, artificialViscosity_, h};
+  const FluidFluidOptions ffOptions{pressureForm_, pOff, artificialViscosity_, h};
   if (nl.half) {
     forceLoopHalf<D>(sim, f, uShift, wallRho);  // fluid_half.cpp
   } else {
@@ -1066,7 +1072,7 @@ void FluidModule::forcesD(Simulation& sim) {
         const double muBar = mua + mub > 0.0
                                  ? (harmonicMean_ ? 4.0 * mua * mub / (mua + mub) : mua + mub)
                                  : 0.0;
-        // Pressure (5.2b or Hu & Adams), viscosity (5.4), artificial viscosity (2.64): the terms
+        // Pressure (5.2b, 5.2a or Hu & Adams), viscosity (5.4), artificial viscosity (2.64): the terms
         // written once for both pair loops (physics/fluid/fluid_pair.hpp).
         const double cb = (idb >= 0 && idb < nm) ? md[idb].soundSpeed : ma.soundSpeed;
         const FluidPairParticle pa_{f.m[i], rhoa, Va, pa, pRho2[i], ma.soundSpeed};
@@ -1129,6 +1135,7 @@ void FluidModule::forcesD(Simulation& sim) {
     BalancedCsfSettings set;
     set.gamma = gamma_;
     set.huAdams = huAdams;
+    set.volumeForm = pressureForm_ == PressureForm::Volume;
     set.smoothingRadius = curvatureSmoothing_;
     addBalancedSurfaceForce<D>(nl, W, n, arr, set, kappaWork_);
   }

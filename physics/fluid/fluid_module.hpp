@@ -25,7 +25,8 @@
 // Stages: kinematics = density summation (option), colour gradient (5.7), wetting normal and
 // curvature (5.8) on interface particles only; constitutive = EOS (1.4 / Tait) and wall pressure/velocity
 // extrapolation (extended summation with a hydrostatic wall pressure); forces = continuity
-// (5.1a, or the mass form sum m_b v_ab . grad W with `continuity_form: mass`), pressure gradient (5.2b), harmonic-mean viscosity (5.4), body forces, CSF surface
+// (5.1a, or the mass form sum m_b v_ab . grad W with `continuity_form: mass`), pressure gradient
+// (5.2b; 5.2a with `pressure_gradient: volume`; Hu-Adams), harmonic-mean viscosity (5.4), body forces, CSF surface
 // tension (1.9), all in gather form.
 #include <algorithm>
 #include <cmath>
@@ -39,13 +40,14 @@
 #include "libcore/pair_scatter.hpp"
 #include "libcore/particle_store.hpp"
 #include "libcore/types.hpp"
+#include "physics/fluid/fluid_pair.hpp"
 
 namespace poresph {
 
 class FluidModule : public Module {
  public:
   using Eos = FluidProperties::Eos;
-  enum class PressureForm { Symmetric, HuAdams };
+  using PressureForm = FluidPressureForm;  // fluid key pressure_gradient (fluid_pair.hpp)
   /// The libcore FluidProperties (copied into Material::fluid for the other modules) plus what
   /// only this module uses.
   struct MaterialData : FluidProperties {

@@ -6,12 +6,17 @@
 // v_ba = -v_ab (exact negations), so each side gets bit for bit what the gather loop gives it.
 //   pressure    -m_b (p_a/rho_a^2 + p_b/rho_b^2) grad W        (Eq. 5.2b; p/rho^2 precomputed)
 //               or Hu & Adams: -(V_a^2 + V_b^2)/m_a p~_ab grad W, p~ density-weighted
+//               or Eq. 5.2a: -m_b (p_a + p_b)/(rho_a rho_b) grad W = -V_b (p_a + p_b)/rho_a grad W
+//               (`pressure_gradient: volume`, the energy-consistent partner of Eq. 5.1a)
+//               (p - p_ref in all three: `pressure_reference: background`)
 //   viscous     f_ab mu_ab V_b F / rho_a v_ab                   (Eq. 5.4, f_ab the lattice factor)
 //               or Hu & Adams: f_ab (V_a^2 + V_b^2)/m_a mu_ab/2 F v_ab
 //   artificial  -m_b Pi_ab grad W                               (Eqs. 2.64-2.65, Pi_ab = Pi_ba)
 //   diffusion   2 V_b (rho_a - rho_b) F                         (Molteni-Colagrossi)
 //   XSPH        2 m_b / (rho_a + rho_b) W (v_b - v_a)           (Eq. 2.66)
 // The continuity term is libcore's continuityTerm (Eq. 5.1a or the mass form).
+#include <type_traits>
+
 #include "libcore/artificial_viscosity.hpp"
 #include "libcore/fluid_pair_terms.hpp"
 #include "libcore/kernel.hpp"
@@ -29,9 +34,28 @@ struct FluidPairParticleT {
 };
 using FluidPairParticle = FluidPairParticleT<double>;
 
+/// The pressure gradient of the fluid-fluid pairs (fluid key `pressure_gradient`):
+///  - Symmetric (`symmetric`, the default): Eq. 5.2b, a_a = -sum_b m_b (p_a/rho_a^2 + p_b/rho_b^2)
+///    grad W_ab. With `continuity_form: mass` energy-consistent; with Eq. 5.1a it leaves the power
+///    1/2 sum m_a m_b (v_ab . grad W)(1/rho_b - 1/rho_a)(p_a/rho_a - p_b/rho_b).
+///  - HuAdams (`hu_adams`): Hu & Adams (2006), a_a = -(1/m_a) sum_b (V_a^2 + V_b^2) p~_ab grad W_ab,
+///    p~_ab = (rho_b p_a + rho_a p_b)/(rho_a + rho_b).
+///  - Volume (`volume`): the thesis' Eq. 5.2a, grad p_a = sum_b V_b (p_a + p_b) grad W_ab, i.e.
+///    a_a = -sum_b m_b (p_a + p_b)/(rho_a rho_b) grad W_ab (pair force -m_a m_b (p_a + p_b)/
+///    (rho_a rho_b) grad W, antisymmetric). With the continuity Eq. 5.1a (drho_a/dt = rho_a sum_b
+///    V_b v_ab . grad W) the rate of the compression energy sum m_a e(rho_a), de/drho = p/rho^2,
+///    is 1/2 sum_ab m_a m_b (p_a + p_b)/(rho_a rho_b) v_ab . grad W, exactly minus the power of
+///    these forces: kinetic + compression energy is conserved pair by pair. Weighted by the
+///    neighbour's volume, not its mass, so that at rest between fluids of unequal density the
+///    sum cancels as for a single fluid (docs/drainage.md "A lighter gas in the throat").
+/// Each form uses p - p_ref (p_ref the background pressure with `pressure_reference: background`,
+/// else 0); with p_ref the conserved energy is sum m (e(rho) + p_ref / rho) + kinetic.
+enum class FluidPressureForm { Symmetric, HuAdams, Volume };
+
 struct FluidFluidOptions {
-  bool huAdams = false;    ///< Hu & Adams pressure form instead of Eq. 5.2b
-  double pOff = 0.0;       ///< pressure reference subtracted in the Hu-Adams pressure
+  FluidPressureForm form = FluidPressureForm::Symmetric;  ///< pressure gradient of the pairs
+  double pOff = 0.0;       ///< pressure reference subtracted in the pressure (Hu-Adams, Eq. 5.2a;
+                           ///< Eq. 5.2b has it in its precomputed (p - p_ref)/rho^2)
   double alpha = 0.0;      ///< artificial viscosity (0: off)
   double h = 0.0;          ///< smoothing length
 };
@@ -61,12 +85,12 @@ template <class Real>
 struct FluidFluidCoefficients {
   Real pressureA, viscousA, artificialA, pressureB, viscousB, artificialB;
 };
-template <class Real, bool kHuAdams, bool kArtificial = true>
+template <class Real, FluidPressureForm kForm, bool kArtificial = true>
 inline FluidFluidCoefficients<Real> fluidFluidCoefficients(
     Real F, Real vr, Real r2, const FluidPairParticleT<Real>& a, const FluidPairParticleT<Real>& b,
     Real muBar, Real fab, Real pOff, Real alpha, Real h) {
   FluidFluidCoefficients<Real> c;
-  if constexpr (kHuAdams) {
+  if constexpr (kForm == FluidPressureForm::HuAdams) {
     const Real pt = (b.rho * (a.p - pOff) + a.rho * (b.p - pOff)) / (a.rho + b.rho);
     const Real sq = a.V * a.V + b.V * b.V;
     const Real vvA = sq / a.m, vvB = sq / b.m;
@@ -75,9 +99,17 @@ inline FluidFluidCoefficients<Real> fluidFluidCoefficients(
     c.pressureB = vvB * pt;
     c.viscousB = -(fab * vvB * Real(0.5) * muBar * F);
   } else {
-    const Real ps = a.pRho2 + b.pRho2;
-    c.pressureA = -(b.m * ps);  // Eq. 5.2b
-    c.pressureB = a.m * ps;
+    if constexpr (kForm == FluidPressureForm::Volume) {
+      // Eq. 5.2a: (p_a + p_b)/(rho_a rho_b), times m_b for a and m_a for b, so that the two
+      // forces m_a a_a and m_b a_b are equal and opposite bit for bit.
+      const Real ps = ((a.p - pOff) + (b.p - pOff)) / (a.rho * b.rho);
+      c.pressureA = -(b.m * ps);
+      c.pressureB = a.m * ps;
+    } else {
+      const Real ps = a.pRho2 + b.pRho2;
+      c.pressureA = -(b.m * ps);  // Eq. 5.2b
+      c.pressureB = a.m * ps;
+    }
     c.viscousA = fab * muBar * b.V * F / a.rho;  // Eq. 5.4 (0 for an inviscid pair)
     c.viscousB = -(fab * muBar * a.V * F / b.rho);
   }
@@ -104,12 +136,17 @@ inline void fluidFluidPair(const Vec<D>& r, const Vec<D>& gradW, double F, const
   // alpha = 0: no Pi (it is exactly 0 then, and the sums it feeds stay +0 either way, so the
   // result is bit for bit that of the branch-free form)
   const bool av = o.alpha > 0.0;
-  const FluidFluidCoefficients<double> c =
-      o.huAdams
-          ? (av ? fluidFluidCoefficients<double, true, true>(F, vr, r2, a, b, muBar, fab, o.pOff, o.alpha, o.h)
-                : fluidFluidCoefficients<double, true, false>(F, vr, r2, a, b, muBar, fab, o.pOff, o.alpha, o.h))
-          : (av ? fluidFluidCoefficients<double, false, true>(F, vr, r2, a, b, muBar, fab, o.pOff, o.alpha, o.h)
-                : fluidFluidCoefficients<double, false, false>(F, vr, r2, a, b, muBar, fab, o.pOff, o.alpha, o.h));
+  auto coefficients = [&](auto form) {
+    constexpr FluidPressureForm kForm = decltype(form)::value;
+    return av ? fluidFluidCoefficients<double, kForm, true>(F, vr, r2, a, b, muBar, fab, o.pOff, o.alpha, o.h)
+              : fluidFluidCoefficients<double, kForm, false>(F, vr, r2, a, b, muBar, fab, o.pOff, o.alpha, o.h);
+  };
+  using F0 = std::integral_constant<FluidPressureForm, FluidPressureForm::Symmetric>;
+  using F1 = std::integral_constant<FluidPressureForm, FluidPressureForm::HuAdams>;
+  using F2 = std::integral_constant<FluidPressureForm, FluidPressureForm::Volume>;
+  const FluidFluidCoefficients<double> c = o.form == FluidPressureForm::HuAdams  ? coefficients(F1{})
+                                           : o.form == FluidPressureForm::Volume ? coefficients(F2{})
+                                                                                 : coefficients(F0{});
   ta.pressure = c.pressureA * gradW;
   ta.viscous = c.viscousA * vab;
   ta.artificial = c.artificialA * gradW;

@@ -57,9 +57,12 @@ void addBalancedSurfaceForce(const NeighbourList& nl, const Kernel& W, Index n,
   //              a_s = +gamma kappa_a sum m_b (C_a/rho_a^2 + C_b/rho_b^2) grad W_ab;
   //   Hu-Adams:  a_p = -(1/m_a) sum (V_a^2 + V_b^2) p~_ab grad W_ab, p~ = (rho_b p_a + rho_a p_b)
   //              / (rho_a + rho_b), so a_s = +(gamma kappa_a/m_a) sum (V_a^2 + V_b^2) C~_ab grad W.
+  //   Eq. 5.2a:  a_p = -sum m_b (p_a + p_b)/(rho_a rho_b) grad W_ab, so
+  //              a_s = +gamma kappa_a sum m_b (C_a + C_b)/(rho_a rho_b) grad W_ab.
   // Only fluid neighbours (the wall pairs carry no surface force here).
   const double gamma = s.gamma;
   const bool hu = s.huAdams;
+  const bool vol = s.volumeForm;
 #pragma omp parallel for schedule(dynamic, 256)
   for (Index i = 0; i < n; ++i) {
     if (ph[i] != kPhaseFluid || a.motion[i] == kMotionFixed || ks[i] == 0.0) continue;
@@ -78,6 +81,8 @@ void addBalancedSurfaceForce(const NeighbourList& nl, const Kernel& W, Index n,
         const double Vb = m[j] / rhob;
         const double ct = (rhob * Ca + rhoa * Cb) / (rhoa + rhob);
         g += ((Va * Va + Vb * Vb) * ct / m[i] * F) * r;
+      } else if (vol) {
+        g += (m[j] * (Ca + Cb) / (rhoa * rhob) * F) * r;
       } else {
         g += (m[j] * (Ca / (rhoa * rhoa) + Cb / (rhob * rhob)) * F) * r;
       }

@@ -37,6 +37,7 @@ struct BalancedCsfArrays {
 struct BalancedCsfSettings {
   double gamma = 0.0;     ///< surface tension (N/m)
   bool huAdams = false;   ///< pressure gradient of the run: Hu & Adams (true) or Eq. 5.2b
+  bool volumeForm = false;  ///< pressure gradient of the run: Eq. 5.2a (`pressure_gradient: volume`)
   /// Curvature used: the Shepard mean of the nonzero curvatures over the neighbours within
   /// smoothing_radius x h (0: the particle's own kappa only).
   double smoothingRadius = 2.0;
