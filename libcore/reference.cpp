@@ -97,6 +97,25 @@ double periodOf(const std::vector<double>& t, const std::vector<double>& y) {
   return 2.0 * sxy / sxx;
 }
 
+/// `at: first COLUMN [OP VALUE]` (the text after "first "): the event column and, with a
+/// threshold, the comparison (`>=` or `<=`) and its value. False when the text is not of that form.
+bool parseFirst(const std::string& at, std::string& column, std::string& op, double& threshold) {
+  std::istringstream in(at.substr(6));
+  std::string extra, value;
+  if (!(in >> column)) return false;
+  op.clear();
+  if (!(in >> op)) return true;  // `first COLUMN`: the first nonzero row
+  if (op != ">=" && op != "<=") return false;
+  if (!(in >> value) || (in >> extra)) return false;
+  std::size_t used = 0;
+  try {
+    threshold = std::stod(value, &used);
+  } catch (const std::exception&) {
+    return false;
+  }
+  return used == value.size() && std::isfinite(threshold);
+}
+
 }  // namespace
 
 const std::vector<std::string>& referenceQuantityNames() {
@@ -131,10 +150,14 @@ ReferenceSpec readReference(const ParameterSet& s, int dim) {
   r.at = s.string("at", "end");
   if (r.at.rfind("first ", 0) == 0) {
     // `at: first COLUMN`: the time of the first row where timeseries COLUMN is nonzero (an event
-    // such as drainage_percolated); checked against the timeseries when the run ends.
-    const std::size_t b = r.at.find_first_not_of(' ', 6);
-    if (b == std::string::npos || r.at.find(' ', b) != std::string::npos)
-      s.fail("at", "'first' takes one timeseries column, e.g. 'first drainage_percolated'");
+    // such as drainage_percolated); `at: first COLUMN >= VALUE` (or <=): the time at which COLUMN
+    // first reaches VALUE (e.g. 'first solid_damage_max >= 0.1'); checked against the timeseries
+    // when the run ends.
+    std::string col, op;
+    double thr = 0.0;
+    if (!parseFirst(r.at, col, op, thr))
+      s.fail("at", "'first' takes one timeseries column, optionally with a threshold: "
+                   "'first drainage_percolated' or 'first solid_damage_max >= 0.1'");
   } else if (r.at != "end" && r.at != "max" && r.at != "min") {
     double t = 0.0;
     std::size_t used = 0;
@@ -330,21 +353,35 @@ ReferenceResult evaluateReference(const Scene& scene, const std::string& timeser
     } else {
       double atTime = ref.atTime;
       if (ref.at.rfind("first ", 0) == 0) {
-        // The time of the event: the first row where the event column is nonzero.
-        const std::string event = ref.at.substr(ref.at.find_first_not_of(' ', 6));
+        // The time of the event: the first row where the event column is nonzero, or, with a
+        // threshold, where it first reaches the threshold, interpolated linearly between that
+        // row and the one before (a continuous column such as solid_damage_max is then read
+        // finer than the output interval).
+        std::string event, op;
+        double thr = 0.0;
+        parseFirst(ref.at, event, op, thr);  // checked by readReference
         std::vector<double> te, ye;
         if (!readColumn(timeseries, event, te, ye, why)) {
           out.note = why;
           return out;
         }
+        auto reached = [&](double v) {
+          if (!std::isfinite(v)) return false;
+          if (op.empty()) return v != 0.0;
+          return op == ">=" ? v >= thr : v <= thr;
+        };
         atTime = -1.0;
         for (size_t k = 0; k < ye.size(); ++k)
-          if (std::isfinite(ye[k]) && ye[k] != 0.0) {
+          if (reached(ye[k])) {
             atTime = te[k];
+            if (!op.empty() && k > 0 && std::isfinite(ye[k - 1]) && ye[k] != ye[k - 1])
+              atTime = te[k - 1] + (thr - ye[k - 1]) / (ye[k] - ye[k - 1]) * (te[k] - te[k - 1]);
             break;
           }
         if (atTime < 0.0) {
-          out.note = "at: " + ref.at + ": '" + event + "' is 0 in every row (the event did not happen by the end of the run)";
+          out.note = "at: " + ref.at + ": '" + event +
+                     (op.empty() ? "' is 0 in every row" : "' is never " + op + " " + ref.at.substr(ref.at.rfind(' ') + 1)) +
+                     " (the event did not happen by the end of the run)";
           return out;
         }
       }

@@ -5,6 +5,7 @@
 #include "libcore/artificial_viscosity.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -1550,6 +1551,49 @@ void ElasticSolidModule::diagnostics(const Simulation& sim,
     columns.emplace_back("solid_damage_dissipation", dd);
     columns.emplace_back("solid_damage_dissipation_yc", damageDissipationYc(sim));
     columns.emplace_back("solid_damage_clipped", static_cast<double>(clippedUpdates_));
+    // Crack events for `reference: {at: first COLUMN >= VALUE}` (docs/damage.md "Fields,
+    // columns, checks"): the largest D, and along each axis the fraction of the damageable
+    // material's extent (reference positions, between particle centres) that the particles at
+    // D >= 0.5 span: 1 when the damaged zone reaches two opposite faces (a crack through).
+    const ParticleStore& s = sim.store;
+    const int d = sim.dimension();
+    const std::int32_t* mat = s.data(s.material());
+    const double* D = s.data(damage_);
+    const double* X = s.data(refPos_);
+    const std::int32_t* src = anyMirror_ ? s.data(mirror_) : nullptr;
+    double dmax = 0.0;
+    std::array<double, 3> lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+    std::array<double, 3> dlo = lo, dhi = hi;
+    for (Index i = 0; i < s.realCount(); ++i) {
+      const int k = slotOf(mat[i]);
+      if (k < 0 || (src && src[i] > 0) || !mats_[static_cast<size_t>(k)].law.damages()) continue;
+      dmax = std::max(dmax, D[i]);
+      for (int a = 0; a < d; ++a) {
+        lo[a] = std::min(lo[a], X[i * d + a]);
+        hi[a] = std::max(hi[a], X[i * d + a]);
+        if (D[i] >= 0.5) {
+          dlo[a] = std::min(dlo[a], X[i * d + a]);
+          dhi[a] = std::max(dhi[a], X[i * d + a]);
+        }
+      }
+    }
+    columns.emplace_back("solid_damage_max", dmax);
+    for (int a = 0; a < d; ++a)
+      columns.emplace_back(std::string("solid_damage_span_") + "xyz"[a],
+                           dhi[a] >= dlo[a] && hi[a] > lo[a] ? (dhi[a] - dlo[a]) / (hi[a] - lo[a]) : 0.0);
+  }
+  // The imposed displacement of each displacement boundary along each imposed component (the
+  // ramp of Eq. 4.31's u_d: value x min(1, t / ramp_time)), e.g. solid_imposed_top_y.
+  for (size_t b = 0; b < boundaries_.size(); ++b) {
+    const Boundary& B = boundaries_[b];
+    if (B.type != BoundaryType::Displacement) continue;
+    std::string name = B.label.empty() ? "boundary_" + std::to_string(b) : B.label;
+    for (char& c : name)  // a column name: no spaces or commas
+      if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+    for (int a = 0; a < sim.dimension(); ++a)
+      if (B.imposed[static_cast<size_t>(a)])
+        columns.emplace_back("solid_imposed_" + name + "_" + "xyz"[a],
+                             B.value[static_cast<size_t>(a)] * ramp(sim.time, B.rampTime));
   }
   columns.emplace_back("solid_energy_balance", ke + el + hg - w[0] - w[1] + w[2] + dd);
 }

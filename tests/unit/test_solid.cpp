@@ -344,6 +344,50 @@ TEST(SolidDiagnostics, Columns) {
     EXPECT_NE(std::find(names.begin(), names.end(), want), names.end()) << want;
 }
 
+// The crack-event columns (docs/damage.md "Fields, columns, checks"; studies/damage_plate.yaml):
+// solid_damage_max, the span of the particles at D >= 0.5 along each axis as a fraction of the
+// damageable material's extent (between particle centres), and the imposed displacement of a
+// displacement boundary along its imposed components only.
+TEST(SolidDiagnostics, DamageEventColumnsAndImposedDisplacement) {
+  const int n = 10;
+  const double dx = 0.01;
+  auto sim = makeBlock<2>("total_lagrangian", 0.25, n, dx, 1.3,
+                          ", damage: {law: at2, critical_energy_release: 2500}",
+                          "{boundaries: [{name: top, type: displacement, box: {min: [-1, 0.085], max: [1, 1]}, "
+                          "displacement: [0, 2.0e-5], ramp_time: 1.0e-3, components: [y]}]}");
+  sim->evaluateRates();
+  auto column = [&](const std::string& name) {
+    for (const auto& c : sim->diagnostics())
+      if (c.first == name) return c.second;
+    return std::nan("");
+  };
+  EXPECT_EQ(column("solid_damage_max"), 0.0);
+  EXPECT_EQ(column("solid_damage_span_x"), 0.0);
+  EXPECT_EQ(column("solid_damage_span_y"), 0.0);
+  double* D = sim->store.data(sim->store.real("damage"));
+  const double* X = sim->store.data(sim->store.real("reference_position"));
+  auto setD = [&](int a, int b, double value) {  // the particle of lattice column a, row b
+    for (Index i = 0; i < sim->store.realCount(); ++i)
+      if (std::lround(X[2 * i] / dx - 0.5) == a && std::lround(X[2 * i + 1] / dx - 0.5) == b) D[i] = value;
+  };
+  for (int a = 2; a <= 7; ++a) setD(a, 4, 0.6);
+  setD(1, 4, 0.3);  // below 0.5: in the maximum only
+  setD(8, 4, 0.95);
+  EXPECT_DOUBLE_EQ(column("solid_damage_max"), 0.95);
+  EXPECT_NEAR(column("solid_damage_span_x"), 6.0 / 9.0, 1e-12);  // columns 2..8 of 0..9
+  EXPECT_EQ(column("solid_damage_span_y"), 0.0);                  // one row
+  for (int a = 0; a < n; ++a) setD(a, 4, 0.6);  // through: the outer columns on both sides
+  setD(3, 5, 0.7);                              // and a second row
+  EXPECT_DOUBLE_EQ(column("solid_damage_span_x"), 1.0);
+  EXPECT_NEAR(column("solid_damage_span_y"), 1.0 / 9.0, 1e-12);
+  // the ramp u_d = value min(1, t / ramp_time), y only (x is free on this roller)
+  sim->time = 0.25e-3;
+  EXPECT_NEAR(column("solid_imposed_top_y"), 0.5e-5, 1e-18);
+  EXPECT_TRUE(std::isnan(column("solid_imposed_top_x")));
+  sim->time = 2.0e-3;
+  EXPECT_NEAR(column("solid_imposed_top_y"), 2.0e-5, 1e-18);
+}
+
 // ---- per-component imposed motion (issue 13: the roller of thesis Eq. 4.31) ----
 
 namespace {

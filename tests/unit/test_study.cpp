@@ -178,6 +178,12 @@ TEST(Reference, SectionParsedAndRefused) {
   EXPECT_NE(badAt.find("expected end, max, min, first COLUMN or a time"), std::string::npos) << badAt;
   const std::string badFirst = errorOf([] { tinyScene("reference: {quantity: kinetic_energy, at: first a b}\n"); });
   EXPECT_NE(badFirst.find("'first' takes one timeseries column"), std::string::npos) << badFirst;
+  for (const char* bad : {"first a > 1", "first a >= x", "first a >= 1 2", "first a >="})
+    EXPECT_NE(errorOf([&] { tinyScene(std::string("reference: {quantity: kinetic_energy, at: '") + bad + "'}\n"); })
+                  .find("'first' takes one timeseries column"),
+              std::string::npos)
+        << bad;
+  EXPECT_NO_THROW(tinyScene("reference: {quantity: kinetic_energy, at: 'first solid_damage_max >= 0.1'}\n"));
   const std::string firstOfState = errorOf([] { tinyScene("reference: {quantity: laplace_jump, centre: [0.5], radius: 0.2, at: first x}\n"); });
   EXPECT_NE(firstOfState.find("only at: end"), std::string::npos) << firstOfState;
   const std::string missing = errorOf([] { tinyScene("reference: {quantity: hoop_stress, centre: [0.0]}\n"); });
@@ -264,6 +270,26 @@ TEST(Reference, TimeseriesQuantities) {
   r = eval("reference: {quantity: foo, at: first ev}\n");  // the row of t = 0.095 s
   ASSERT_TRUE(r.ok) << r.note;
   EXPECT_NEAR(r.measured, 3.0 + std::sin(2 * M_PI * 0.095 / 0.37), 1e-5);  // as written (6 digits)
+  // `first COLUMN >= VALUE`: the time COLUMN first reaches VALUE, interpolated between the rows
+  // (foo rises through 3.5 between the rows of t = 0.015 and 0.02 s: 3 + sin(2 pi t / T) = 3.5 at
+  // t = T / 12 = 0.030833 s; linear between the rows 0.030 and 0.035 s); the quantity is read there.
+  r = eval("reference: {quantity: time, at: first foo >= 3.5}\n");
+  ASSERT_TRUE(r.ok) << r.note;
+  {
+    const double t0 = 0.03, t1 = 0.035, y0 = 3.0 + std::sin(2 * M_PI * t0 / 0.37),
+                 y1 = 3.0 + std::sin(2 * M_PI * t1 / 0.37);
+    EXPECT_NEAR(r.measured, t0 + (3.5 - y0) / (y1 - y0) * (t1 - t0), 1e-6);
+    EXPECT_NEAR(r.measured, 0.37 / 12, 2e-4);  // the crossing itself, within the row's chord
+  }
+  r = eval("reference: {quantity: time, at: first foo <= 2.5}\n");  // falling through 2.5 at 7 T / 12
+  ASSERT_TRUE(r.ok) << r.note;
+  EXPECT_NEAR(r.measured, 7 * 0.37 / 12, 2e-4);
+  r = eval("reference: {quantity: foo, at: first ev >= 1}\n");  // a 0 -> 1 switch: the switch row
+  ASSERT_TRUE(r.ok) << r.note;
+  EXPECT_NEAR(r.measured, 3.0 + std::sin(2 * M_PI * 0.095 / 0.37), 1e-5);
+  r = eval("reference: {quantity: foo, at: first foo >= 4.5}\n");  // never
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.note.find("did not happen"), std::string::npos) << r.note;
   r = eval("reference: {quantity: foo, at: first never}\n");
   EXPECT_FALSE(r.ok);
   EXPECT_NE(r.note.find("did not happen"), std::string::npos) << r.note;
