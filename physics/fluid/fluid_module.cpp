@@ -64,8 +64,8 @@ void FluidModule::configure(Simulation& sim, const std::vector<const Material*>&
       md.colour = std::cos(theta * kPi / 180.0);  // Eq. 1.10
       sim.materials[static_cast<size_t>(m->id)].phase = kPhaseWall;
       sim.materials[static_cast<size_t>(m->id)].wettingCos = md.colour;
-      md.wallVelocity = p.has("velocity") ? p.reals("velocity", static_cast<size_t>(d))
-                                          : std::vector<double>(static_cast<size_t>(d), 0.0);
+      // empty: none given (a prescribed wall then keeps its region's velocity, initialise)
+      md.wallVelocity = p.has("velocity") ? p.reals("velocity", static_cast<size_t>(d)) : std::vector<double>{};
     } else {
       p.fail("model", "is not a model of the fluid module (fluid, wall)");
     }
@@ -281,11 +281,19 @@ void FluidModule::initialise(Simulation& sim) {
       p[i] = pressureOf(md, rho[i]);
     } else {
       ph[i] = kPhaseWall;
-      mo[i] = kMotionFixed;
+      // A wall stays where it is; its material's `velocity` then enters the no-slip mirror and
+      // the continuity only (an infinite plate sliding along itself). With the region's `motion:
+      // prescribed` it moves with that velocity (the material's, else the region's): a
+      // translating plate (issue 14, docs/fluid.md "Contact angle on a moving wall"); constant
+      // velocity, so its acceleration a_w in the wall pressure (Adami et al. 2012) is 0.
+      if (mo[i] != kMotionPrescribed) mo[i] = kMotionFixed;
       if (rho[i] <= 0.0) rho[i] = md.rho0;
       if (m[i] <= 0.0) m[i] = md.rho0 * cellVolume;
       if (col) col[i] = md.colour;
-      for (int a = 0; a < d; ++a) v[i * d + a] = md.wallVelocity[static_cast<size_t>(a)];
+      if (!md.wallVelocity.empty())
+        for (int a = 0; a < d; ++a) v[i * d + a] = md.wallVelocity[static_cast<size_t>(a)];
+      else if (mo[i] != kMotionPrescribed)
+        for (int a = 0; a < d; ++a) v[i * d + a] = 0.0;
     }
   }
   checkSoundSpeeds(sim);
@@ -313,7 +321,8 @@ void FluidModule::initialise(Simulation& sim) {
 //   g_w = sum_b phi_b V_b grad W_2h(x_w - x_b),   phi_b = +1 fluid, -1 boundary,
 // the gradient of (fluid indicator - boundary indicator) with the same kernel at twice the
 // smoothing length (support 6h), pointing from the walls into the fluid; computed once from the
-// set-up (walls never move; a translating wall's normal does not change). The fluid particle's
+// set-up and carried by the wall particles (walls are fixed or translate with a constant
+// prescribed velocity, and a translating wall's normal does not change). The fluid particle's
 // wall normal is then the kernel mean sum_w V_w W_aw g_w (kinematicsD), which deviates by
 // rms 2-3 degrees, at most 4-5, on the 15 and 30 degree staircases. Set-up search over the real
 // particles and their periodic images within the wide support (the run's neighbour list and
