@@ -3,14 +3,15 @@
 #
 #   scripts/run_studies.sh [--out DIR] [NAME ...]       (default DIR: runs/studies; all studies)
 #
-# NAME: bar, bar_edge, droplet, droplet_edge, spurious, spurious_form, lame, lame_edge, entry, drainage, drainage_edge. Each runs
+# NAME: bar, bar_edge, droplet, droplet_edge, spurious, spurious_form, lame, lame_edge, entry, drainage, drainage_edge,
+# damage_plate, damage_plate_crossing, damage_plate_edge. Each runs
 # `poresph study` on one thread (OMP_NUM_THREADS=1, --threads 1) into DIR/NAME and copies its
 # DIR/NAME/study.png to docs/img/study_NAME.png. Run from the repository root after a build.
 set -u
 out=runs/studies
 if [ "${1:-}" = "--out" ]; then out=$2; shift 2; fi
 names=("$@")
-[ ${#names[@]} -eq 0 ] && names=(bar bar_edge droplet droplet_edge spurious spurious_form lame lame_edge entry drainage drainage_edge)
+[ ${#names[@]} -eq 0 ] && names=(bar bar_edge droplet droplet_edge spurious spurious_form lame lame_edge entry drainage drainage_edge damage_plate damage_plate_crossing damage_plate_edge)
 exe=build/poresph
 export OMP_NUM_THREADS=1
 study() {  # NAME SCENE ARGS...
@@ -51,6 +52,15 @@ for n in "${names[@]}"; do
     drainage_edge) # the gas : water density ratio against the gas' sound speed at dx = 1e-4
       study drainage_edge studies/drainage_throat.yaml --vary materials.gas.density=1000,100,10 \
         --vary materials.gas.sound_speed=4,12.65,40 ;;
-    *) echo "unknown study '$n' (bar, bar_edge, droplet, droplet_edge, spurious, spurious_form, lame, lame_edge, entry, drainage, drainage_edge)"; exit 2 ;;
+    damage_plate)  # AT-2 plate: imposed displacement at the first D >= 0.1 against the thesis' 17.4 um
+      study damage_plate studies/damage_plate.yaml --vary spacing=4e-3,3e-3,2e-3 --vary cfl=0.5,0.9,1.0 \
+        --set end_time=0.022 --set reference.value=1.74e-5 ;;
+    damage_plate_crossing)  # the same plate: imposed displacement when the crack is through, finest run
+      study damage_plate_crossing studies/damage_plate.yaml --vary spacing=4e-3,3e-3,2e-3 --vary cfl=0.5,1.0 \
+        --set 'reference.at=first solid_damage_span_x >= 0.99' ;;
+    damage_plate_edge)  # smallest h/dx and the largest fixed step at dx = 4 mm (crossing, finest run)
+      study damage_plate_edge studies/damage_plate.yaml --set spacing=4e-3 --vary h_over_dx=1.25,1.0,0.8,0.6 \
+        --vary dt=1.6e-5,3.2e-5,4.4e-5 --set 'reference.at=first solid_damage_span_x >= 0.99' ;;
+    *) echo "unknown study '$n' (bar, bar_edge, droplet, droplet_edge, spurious, spurious_form, lame, lame_edge, entry, drainage, drainage_edge, damage_plate, damage_plate_crossing, damage_plate_edge)"; exit 2 ;;
   esac
 done
