@@ -58,6 +58,7 @@ struct FluidFluidBlock {
   // errno a sqrt is a branch, and the block loop would not vectorise)
   Real rho[kBlock], p[kBlock], pRho2[kBlock], V[kBlock], m[kBlock], c[kBlock], mu[kBlock];
   Real visc[kBlock], drho[kBlock], same[kBlock];
+  Real wc[kBlock];  // continuity weight of side a (interfaceContinuityWeight; b's is 2 - wc)
   // terms of the pair for i (A) and j (B)
   Real fA[D][kBlock], fB[D][kBlock], divA[kBlock], divB[kBlock], diffA[kBlock], diffB[kBlock];
   Real momA[kBlock], momB[kBlock];
@@ -121,12 +122,14 @@ PORESPH_BLOCK_CLONES void fluidFluidBlockTerms(FluidFluidBlock<Real, D>& b, cons
       b.fA[a][q] = (c.pressureA * gw + c.viscousA * b.vab[a][q]) + c.artificialA * gw;
       b.fB[a][q] = (c.pressureB * gw + c.viscousB * b.vab[a][q]) + c.artificialB * gw;
     }
-    if constexpr (kMass) {  // continuityTerm
-      b.divA[q] = (pb.m / rhoa) * vg;
-      b.divB[q] = (ma / pb.rho) * vg;
+    // continuityTerm times the pair's interface weight (1 within one material)
+    const Real wA = b.wc[q], wB = Real(2) - b.wc[q];
+    if constexpr (kMass) {
+      b.divA[q] = wA * ((pb.m / rhoa) * vg);
+      b.divB[q] = wB * ((ma / pb.rho) * vg);
     } else {
-      b.divA[q] = pb.V * vg;
-      b.divB[q] = Va * vg;
+      b.divA[q] = wA * (pb.V * vg);
+      b.divB[q] = wB * (Va * vg);
     }
     const Real dd = diffusionOn * b.same[q];  // densityDiffusionTerm, one material
     b.diffA[q] = dd * (Real(2) * pb.V * b.drho[q] * F);
@@ -532,6 +535,7 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
               blk.visc[q] = f.visc ? static_cast<Real>(f.visc[j]) : Real(1);
               blk.drho[q] = static_cast<Real>(rhoa - f.rho[j]);
               blk.same[q] = f.mt[j] == ida ? Real(1) : Real(0);
+              blk.wc[q] = static_cast<Real>(ifaceWeight_[static_cast<size_t>(ida * nm + f.mt[j])]);
             }
             constexpr auto kSym = FluidPressureForm::Symmetric, kHu = FluidPressureForm::HuAdams,
                            kVol = FluidPressureForm::Volume;
@@ -666,13 +670,16 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
             fluidFluidPair<D, true>(r, gradW, F, vab, pa_, pb_, muBar, fab, ffOptions, ta, tbAcc);
             const Vec<D> fA = ta.pressure + ta.viscous + ta.artificial;
             const Vec<D> fB = tbAcc.pressure + tbAcc.viscous + tbAcc.artificial;
+            // Eq. 5.1a / mass form, times the interface weight between two fluids
+            // (interfaceContinuityWeight; 1 within one material)
+            const double wcA = valid(ida) && valid(idb) ? ifaceWeight_[static_cast<size_t>(ida * nm + idb)] : 1.0;
             if (recA) {
               accA += fA;
-              divA += continuityTerm(form, rhoa, mb, Vb, vabGradW);  // Eq. 5.1a / mass form
+              divA += wcA * continuityTerm(form, rhoa, mb, Vb, vabGradW);
             }
             if (recB) {
               for (int a = 0; a < D; ++a) tb[a] += fB[a];
-              tb[kDiv] += continuityTerm(form, rhob, ma, Va, vabGradW);
+              tb[kDiv] += (2.0 - wcA) * continuityTerm(form, rhob, ma, Va, vabGradW);
             }
           });
           if (blockF.n > 0) flush(blockF);

@@ -128,6 +128,13 @@ void FluidModule::configure(Simulation& sim, const std::vector<const Material*>&
     continuityForm_ = s.choice("continuity_form", "volume", {"volume", "mass"}) == "mass"
                           ? ContinuityForm::Mass
                           : ContinuityForm::Volume;
+    // The neighbour velocity in the continuity term of a pair of two different fluids (issue 16,
+    // docs/drainage.md "The inlet meniscus at density ratio 1000"): `mean` takes v_b (Eq. 5.1a
+    // as written); `acoustic` the interface velocity of the linearised (acoustic) Riemann problem
+    // between the two, v* = (Z_a v_a + Z_b v_b)/(Z_a + Z_b), Z = rho0 c0 (fluid_pair.hpp
+    // interfaceContinuityWeight). Equal impedances give Eq. 5.1a exactly.
+    acousticInterface_ =
+        s.choice("continuity_interface", "mean", {"mean", "acoustic"}) == "acoustic";
     harmonicMean_ =
         s.choice("viscosity_mean", "harmonic", {"harmonic", "arithmetic"}) == "harmonic";
     gamma_ = s.real("surface_tension", 0.0, Range::nonNegative());
@@ -200,6 +207,21 @@ void FluidModule::configure(Simulation& sim, const std::vector<const Material*>&
     section->fail("transport_velocity",
                   "needs a positive background_pressure of the fluid materials (it drives the "
                   "transport velocity)");
+  // Continuity weight of each pair of materials (continuity_interface above): 1 unless acoustic
+  // and two different fluids.
+  {
+    const size_t nmat = mat_.size();
+    ifaceWeight_.assign(nmat * nmat, 1.0);
+    if (acousticInterface_)
+      for (size_t a = 0; a < nmat; ++a)
+        for (size_t b = a + 1; b < nmat; ++b)
+          if (mat_[a].fluid && mat_[b].fluid) {
+            const double w = interfaceContinuityWeight(mat_[a].rho0 * mat_[a].soundSpeed,
+                                                       mat_[b].rho0 * mat_[b].soundSpeed);
+            ifaceWeight_[a * nmat + b] = w;
+            ifaceWeight_[b * nmat + a] = 2.0 - w;  // exactly what the symmetric loop gives b
+          }
+  }
   sim.fluidPairSettings = FluidPairSettings{pressureForm_ == PressureForm::HuAdams, harmonicMean_,
                                             artificialViscosity_, sim.kernel.h(),
                                             pressureReference_ ? backgroundPressure_ : 0.0,
@@ -1091,7 +1113,10 @@ void FluidModule::forcesD(Simulation& sim) {
         aP += ta.pressure;
         aV += ta.viscous;
         aA += ta.artificial;
-        divv += continuityTerm(continuityForm_, rhoa, mb, Vb, vab.dot(gradW));  // Eq. 5.1a / mass form
+        // Eq. 5.1a / mass form; between two fluids with continuity_interface: acoustic, v_b is
+        // the interface velocity (weight 2 Z_b / (Z_a + Z_b), 1 within one material)
+        const double wc = (idb >= 0 && idb < nm) ? ifaceWeight_[static_cast<size_t>(ida * nm + idb)] : 1.0;
+        divv += wc * continuityTerm(continuityForm_, rhoa, mb, Vb, vab.dot(gradW));
       }
       if (f.nextFactor) f.nextFactor[i] = moment > 0.5 * D ? D / moment : 1.0;
       Vec<D> ai = aP + aV + aA + g;

@@ -200,6 +200,8 @@ class FluidModule : public Module {
   PressureForm pressureForm_ = PressureForm::Symmetric;
   bool harmonicMean_ = true;
   ContinuityForm continuityForm_ = ContinuityForm::Volume;  // continuity_form (Eq. 5.1a / mass)
+  bool acousticInterface_ = false;  // continuity_interface: acoustic (interfaceContinuityWeight)
+  std::vector<double> ifaceWeight_;  // its weight per pair of materials (a * n + b), 1 when off
   double gamma_ = 0.0;              // surface tension coefficient (N/m)
   bool densityWeightedCsf_ = true;  // CSF weighting 2 rho_a / (rho_a + rho_b)
   bool balancedCsf_ = false;        // surface_tension_form: balanced (surface_tension.hpp)
