@@ -47,7 +47,12 @@ void Integrator::bindScratch(Simulation& sim) {
   const int d = sim.dimension();
   ParticleStore& s = sim.store;
   scratchV_ = s.addReal("integrator_velocity", d, kFieldNone, "integrator");
-  scratchR_ = s.addReal("integrator_position", d, kFieldNone, "integrator");
+  // The position copy r^n is read by the predictor-corrector only (verlet and leapfrog advance
+  // r in place: issue 17, memory, 8 D B per particle). Registered here, with the other scratch,
+  // so that a restart finds the fields its checkpoint's store state names.
+  scratchR_ = name() == "predictor_corrector"
+                  ? s.addReal("integrator_position", d, kFieldNone, "integrator")
+                  : RealField{};
   scratchF_.clear();
   boundIntegrated_.clear();
   for (const auto& f : sim.integrated) {

@@ -100,8 +100,9 @@ MemoryReport memoryReport(const Simulation& sim, std::uint64_t particles,
                            static_cast<double>(held) / static_cast<double>(nReal), 0.0,
                            "outside the store, for its own particles"});
   if (!integratorBound) {
-    // Integrator::bindScratch registers these at the first step: a velocity and a position
-    // copy plus one copy of every integrated field.
+    // Integrator::bindScratch registers these at the first step: a velocity copy (and a position
+    // copy, predictor_corrector only: counted here, so an upper bound for verlet and leapfrog)
+    // plus one copy of every integrated field.
     double b = 2.0 * d * sizeof(double);
     for (const auto& f : sim.integrated) b += st.components(f.value.id) * sizeof(double);
     r.lines.push_back({"fields: integrator", b, 0.0, "registered at the first step"});

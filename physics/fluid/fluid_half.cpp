@@ -198,11 +198,17 @@ void FluidModule::layoutHalf(Simulation& sim, int width) {
 }
 
 int FluidModule::halfWidth(int d) const {
-  // The wall extrapolation's 2 + 2D sums; the force loop's D + 3 and the optional XSPH,
-  // shifting and transport-velocity vectors; 1 for the density summation and viscous factors.
-  const int force = d + 3 + (xsph_ > 0.0 ? d : 0) + (shifting_ > 0.0 ? d : 0) +
-                    (transportVelocity_ ? d : 0);
-  return std::max(2 + 2 * d, force);
+  // The wall extrapolation's 2 + D sums (+ D for the no-slip velocity when wall_velocity is
+  // held); the force loop's D + 2 (+ 1 for the viscous moment when the factors are held) and
+  // the optional XSPH, shifting and transport-velocity vectors; 1 for the density summation
+  // and viscous factors.
+  const int wall = 2 + d + (wallVelocity.valid() ? d : 0);
+  return std::max(wall, forceWidth(d));
+}
+
+int FluidModule::forceWidth(int d) const {
+  return d + 2 + (factors_ ? 1 : 0) + (xsph_ > 0.0 ? d : 0) + (shifting_ > 0.0 ? d : 0) +
+         (transportVelocity_ ? d : 0);
 }
 
 // Boundary particles with a fluid neighbour (1) and fluid particles with a boundary neighbour
@@ -258,8 +264,10 @@ void FluidModule::wallExtrapolationHalf(Simulation& sim, const Fields& f) {
   const unsigned char* wet = wetFlag_.data();
   Vec<D> g;
   for (int a = 0; a < D; ++a) g[a] = gravity_[static_cast<size_t>(a)];
-  // Per boundary particle: sum W, sum p W, sum rho W r, sum v W (the gather loop's sums).
-  constexpr int w = 2 + 2 * D;
+  // Per boundary particle: sum W, sum p W, sum rho W r, sum v W (the gather loop's sums; the
+  // last only when wall_velocity is held).
+  const bool noSlip = f.vw != nullptr;
+  const int w = noSlip ? 2 + 2 * D : 2 + D;
   layoutHalf(sim, w);
   double* own = pairSum_.data();
   withRows<D>(sim, f.x, false, [&](const auto& rows) {
@@ -283,27 +291,26 @@ void FluidModule::wallExtrapolationHalf(Simulation& sim, const Fields& f) {
               sw += wk;
               sp += f.p[j] * wk;
               srr += (f.rho[j] * wk) * r;
-              for (int a = 0; a < D; ++a) sv[a] += f.v[j * D + a] * wk;
+              if (noSlip)
+                for (int a = 0; a < D; ++a) sv[a] += f.v[j * D + a] * wk;
             } else if (j < n && wet[j]) {  // i fluid, j a real boundary particle
               double* tj = scatter_.at(t, own, j);
               const Vec<D> rji = -r;
               tj[0] += wk;
               tj[1] += f.p[i] * wk;
               const Vec<D> s = (f.rho[i] * wk) * rji;
-              for (int a = 0; a < D; ++a) {
-                tj[2 + a] += s[a];
-                tj[2 + D + a] += f.v[i * D + a] * wk;
-              }
+              for (int a = 0; a < D; ++a) tj[2 + a] += s[a];
+              if (noSlip)
+                for (int a = 0; a < D; ++a) tj[2 + D + a] += f.v[i * D + a] * wk;
             }
           });
           if (!fi) {
             double* ti = own + i * w;
             ti[0] += sw;
             ti[1] += sp;
-            for (int a = 0; a < D; ++a) {
-              ti[2 + a] += srr[a];
-              ti[2 + D + a] += sv[a];
-            }
+            for (int a = 0; a < D; ++a) ti[2 + a] += srr[a];
+            if (noSlip)
+              for (int a = 0; a < D; ++a) ti[2 + D + a] += sv[a];
           }
         }
       });
@@ -321,10 +328,12 @@ void FluidModule::wallExtrapolationHalf(Simulation& sim, const Fields& f) {
             Vec<D> srr;
             for (int a = 0; a < D; ++a) srr[a] = ti[2 + a];
             f.p[i] = (ti[1] + ga.dot(srr)) / sw;
-            for (int a = 0; a < D; ++a) f.vw[i * D + a] = 2.0 * f.v[i * D + a] - ti[2 + D + a] / sw;
+            if (noSlip)
+              for (int a = 0; a < D; ++a) f.vw[i * D + a] = 2.0 * f.v[i * D + a] - ti[2 + D + a] / sw;
           } else {
             f.p[i] = 0.0;
-            for (int a = 0; a < D; ++a) f.vw[i * D + a] = f.v[i * D + a];
+            if (noSlip)
+              for (int a = 0; a < D; ++a) f.vw[i * D + a] = f.v[i * D + a];
           }
         }
       });
@@ -422,16 +431,18 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
   const double alpha = artificialViscosity_, delta = densityDiffusion_;
   const ContinuityForm form = continuityForm_;
   const FluidPairSettings pairSettings = sim.fluidPairSettings;
-  const double* vol = vol_.data();
+  const Volumes vol{f.m, f.rho};  // V = m / rho, per pair
   const double* pRho2 = pRho2_.data();
   const FluidFluidOptions ffOptions{pForm, pOff, alpha, h};
   Vec<D> g;
   for (int a = 0; a < D; ++a) g[a] = gravity_[static_cast<size_t>(a)];
 
   // Per particle: acceleration (pressure + viscous + artificial), continuity sum, diffusion sum,
-  // viscous moment, then the optional XSPH, shifting and transport-velocity sums.
-  const int kDiv = D, kDiff = D + 1, kMom = D + 2;
-  int width = D + 3;
+  // viscous moment (only with the viscous factors), then the optional XSPH, shifting and
+  // transport-velocity sums.
+  const bool momOn = f.nextFactor != nullptr;
+  const int kDiv = D, kDiff = D + 1, kMom = momOn ? D + 2 : -1;
+  int width = momOn ? D + 3 : D + 2;
   const int kX = xsphOn ? width : -1;
   width += xsphOn ? D : 0;
   const int kC = shiftOn ? width : -1;
@@ -556,7 +567,7 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
               }
               tb[kDiv] += static_cast<double>(blk.divB[q]);
               tb[kDiff] += static_cast<double>(blk.diffB[q]);
-              tb[kMom] += static_cast<double>(blk.momB[q]);
+              if (momOn) tb[kMom] += static_cast<double>(blk.momB[q]);
               divA += static_cast<double>(blk.divA[q]);
               diffA += static_cast<double>(blk.diffA[q]);
               momA += static_cast<double>(blk.momA[q]);
@@ -588,8 +599,10 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
             const double r2 = r.squaredNorm();
             // Every neighbour: the viscous moment for the next factor, shifting and transport
             // velocity sums (as the gather loop).
-            if (recA) momA -= vol[j] * r2 * F;
-            if (recB) tb[kMom] -= vol[i] * r2 * F;
+            if (momOn) {
+              if (recA) momA -= vol[j] * r2 * F;
+              if (recB) tb[kMom] -= vol[i] * r2 * F;
+            }
             if (shiftOn) {
               if (recA) gradCA += (f.m[j] / f.rho[j]) * gradW;
               if (recB)
@@ -689,7 +702,7 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
             for (int a = 0; a < D; ++a) ti[a] += accA[a];
             ti[kDiv] += divA;
             ti[kDiff] += diffA;
-            ti[kMom] += momA;
+            if (momOn) ti[kMom] += momA;
             for (int a = 0; a < D; ++a) {
               if (xsphOn) ti[kX + a] += dvXA[a];
               if (shiftOn) ti[kC + a] += gradCA[a];
@@ -707,8 +720,7 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
           if (!receives(i)) continue;
           const double* ti = own + i * w;
           const MaterialData& ma = md[f.mt[i]];
-          const double moment = ti[kMom];
-          if (f.nextFactor) f.nextFactor[i] = moment > 0.5 * D ? D / moment : 1.0;
+          if (momOn) f.nextFactor[i] = ti[kMom] > 0.5 * D ? D / ti[kMom] : 1.0;
           Vec<D> ai;
           for (int a = 0; a < D; ++a) ai[a] = ti[a] + g[a];
           addBodyForces<D>(f.x + i * D, ai);
@@ -738,12 +750,12 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
 
 std::uint64_t FluidModule::heldBytes() const {
   // The symmetric loops' sums and spills, the cell walk's layout scratch, and the force loop's
-  // per-particle scratch (V, (p - p_ref) / rho^2, the wall density; flags of wet and receiving
+  // per-particle scratch ((p - p_ref) / rho^2 or the wall density; flags of wet and receiving
   // particles), which every fluid run holds.
   return static_cast<std::uint64_t>(
       scatter_.bytes() + pairSum_.capacity() * sizeof(double) + walkScratch_.bytes() +
       (walkBlocks_.capacity() + walkSpill_.capacity()) * sizeof(Index) +
-      (vol_.capacity() + pRho2_.capacity() + wallRho_.capacity()) * sizeof(double) +
+      pRho2_.capacity() * sizeof(double) +
       wetFlag_.capacity() + receives_.capacity());
 }
 
@@ -753,10 +765,7 @@ double FluidModule::deferredBytesPerParticle(const Simulation& sim, double,
   // The force loop's sums (acceleration, continuity, diffusion, moment and the optional XSPH,
   // shifting and transport-velocity vectors) for every particle, plus the spills: about a slab
   // of the support's thickness per thread boundary, counted here as 10 % (docs/performance.md).
-  const int d = sim.dimension();
-  const int width = d + 3 + (xsph_ > 0.0 ? d : 0) + (shifting_ > 0.0 ? d : 0) +
-                    (transportVelocity_ ? d : 0);
-  return 1.1 * width * sizeof(double);
+  return 1.1 * halfWidth(sim.dimension()) * sizeof(double);
 }
 
 #define PORESPH_FLUID_HALF(D)                                                                 \

@@ -231,13 +231,27 @@ void FluidModule::configure(Simulation& sim, const std::vector<const Material*>&
   auto& st = sim.store;
   pressure = st.addReal("pressure", 1, kFieldDefault, "fluid");
   densityRate = st.addReal("density_rate", 1, kFieldNone, "fluid");
-  wallVelocity = st.addReal("wall_velocity", d, kFieldToGhosts, "fluid");
+  // Inviscid fluids (every fluid material at viscosity 0, e.g. artificial viscosity only, as
+  // DualSPHysics' case A; issue 17, memory): the viscous term 5.4 is zero in every pair, so
+  // neither its lattice normalisation factors nor the boundary's no-slip velocity (read by the
+  // viscous term only; the artificial viscosity 2.64 takes the boundary's own velocity) are
+  // needed: viscous_factor, viscous_factor_next and wall_velocity are not allocated (40 B per
+  // particle in 3D) and the symmetric loops' sums narrow. wall_velocity is kept when the scene
+  // has materials of other modules (the coupling and rigid modules read it through the store).
+  viscous_ = maxNu_ > 0.0;
+  bool otherModules = false;
+  for (const Material& m : sim.materials)
+    otherModules = otherModules || (m.model != "fluid" && m.model != "wall");
+  wallVelocity = viscous_ || otherModules
+                     ? st.addReal("wall_velocity", d, kFieldToGhosts, "fluid")
+                     : RealField{};
   // Per-particle factor of the viscous lattice normalisation (forces stage), read by the pair
   // terms of both particles of a pair (also by the coupling module, through the store).
-  viscousFactor = normaliseViscosity_
+  factors_ = normaliseViscosity_ && viscous_;
+  viscousFactor = factors_
                       ? st.addReal("viscous_factor", 1, kFieldToGhosts | kFieldCheckpoint, "fluid")
                       : RealField{};
-  viscousFactorNext = normaliseViscosity_
+  viscousFactorNext = factors_
                           ? st.addReal("viscous_factor_next", 1, kFieldNone, "fluid")
                           : RealField{};
   viscousFactorsReady_ = false;
@@ -536,15 +550,15 @@ FluidModule::Fields FluidModule::fields(Simulation& sim) const {
   f.m = st.data(st.mass());
   f.rho = st.data(st.density());
   f.p = st.data(pressure);
-  f.vw = st.data(wallVelocity);
+  f.vw = wallVelocity.valid() ? st.data(wallVelocity) : nullptr;
   f.acc = st.data(sim.acceleration);
   f.ph = st.data(st.phase());
   f.mt = st.data(st.material());
   f.mo = st.data(sim.motion);
   f.drho = summation_ ? nullptr : st.data(densityRate);
   f.corrRate = positionCorrection.valid() ? st.data(positionCorrection) : nullptr;
-  f.visc = normaliseViscosity_ ? st.data(viscousFactor) : nullptr;
-  f.nextFactor = normaliseViscosity_ ? st.data(viscousFactorNext) : nullptr;
+  f.visc = factors_ ? st.data(viscousFactor) : nullptr;
+  f.nextFactor = factors_ ? st.data(viscousFactorNext) : nullptr;
   f.aw = movingBoundaries_ ? st.data(boundaryAcceleration_) : nullptr;
   return f;
 }
@@ -871,7 +885,8 @@ void FluidModule::constitutiveD(Simulation& sim) {
       if (f.ph[i] == kPhaseFluid) continue;
       if (!wet[i]) {
         f.p[i] = 0.0;
-        for (int a = 0; a < D; ++a) f.vw[i * D + a] = f.v[i * D + a];
+        if (f.vw)
+          for (int a = 0; a < D; ++a) f.vw[i * D + a] = f.v[i * D + a];
         continue;
       }
       // A moving boundary: g - a_w (Adami et al. 2012, Eq. 27), a_w of the last evaluation.
@@ -889,19 +904,22 @@ void FluidModule::constitutiveD(Simulation& sim) {
         sw += w;
         sp += f.p[j] * w;
         srr += (f.rho[j] * w) * r;
-        for (int a = 0; a < D; ++a) sv[a] += f.v[j * D + a] * w;
+        if (f.vw)
+          for (int a = 0; a < D; ++a) sv[a] += f.v[j * D + a] * w;
       }
       if (sw > 0.0) {
         f.p[i] = (sp + ga.dot(srr)) / sw;
-        for (int a = 0; a < D; ++a) f.vw[i * D + a] = 2.0 * f.v[i * D + a] - sv[a] / sw;
+        if (f.vw)
+          for (int a = 0; a < D; ++a) f.vw[i * D + a] = 2.0 * f.v[i * D + a] - sv[a] / sw;
       } else {
         f.p[i] = 0.0;
-        for (int a = 0; a < D; ++a) f.vw[i * D + a] = f.v[i * D + a];
+        if (f.vw)
+          for (int a = 0; a < D; ++a) f.vw[i * D + a] = f.v[i * D + a];
       }
     }
   }
   st.refreshGhosts(pressure);
-  st.refreshGhosts(wallVelocity);
+  if (wallVelocity.valid()) st.refreshGhosts(wallVelocity);
 }
 
 template <int D>
@@ -951,7 +969,7 @@ void FluidModule::forcesD(Simulation& sim) {
   // no extra neighbour pass is paid (it cost ~9 % of the step). Only the first evaluation of a
   // run computes them in a pass of their own. They are checkpointed, so a restart continues
   // with the same factors.
-  if (normaliseViscosity_ && !viscousFactorsReady_) {
+  if (factors_ && !viscousFactorsReady_) {
     if (nl.half) {
       viscousFactorsHalf<D>(sim, f);  // fluid_half.cpp
     } else {
@@ -977,11 +995,10 @@ void FluidModule::forcesD(Simulation& sim) {
   const FluidPairSettings pairSettings = sim.fluidPairSettings;
 
   // The pair loop with the kernel type fixed at compile time (one switch per loop, not per
-  // pair), and per-particle quantities computed once instead of once per pair: volumes
-  // V_b = m_b / rho_b and, with one fluid material, the density the fluid has at a boundary
-  // particle's extrapolated pressure (Tait: a pow per wall pair otherwise). Same values bit for bit.
+  // pair), and per-particle quantities computed once instead of once per pair: (p - p_ref) /
+  // rho^2 and, with one fluid material, the density the fluid has at a boundary particle's
+  // extrapolated pressure (Tait: a pow per wall pair otherwise). Same values bit for bit.
   const Index nAll = st.size();
-  if (vol_.size() < static_cast<size_t>(nAll)) vol_.resize(static_cast<size_t>(nAll));
   const MaterialData* single = nullptr;
   {
     int fluids = 0;
@@ -989,20 +1006,21 @@ void FluidModule::forcesD(Simulation& sim) {
       if (md[id].owned && md[id].fluid) { single = &md[id]; ++fluids; }
     if (fluids != 1) single = nullptr;
   }
-  if (single && wallRho_.size() < static_cast<size_t>(nAll)) wallRho_.resize(static_cast<size_t>(nAll));
+  // (p - p_ref) / rho^2 is read at fluid particles only (fluid-fluid pairs) and the wall density
+  // at boundary particles only (fluid-boundary pairs): one array holds both, each particle the
+  // one its phase needs (issue 17, memory: 8 B per particle less; same values).
   if (pRho2_.size() < static_cast<size_t>(nAll)) pRho2_.resize(static_cast<size_t>(nAll));
-  double* volW = vol_.data();
   double* pRho2W = pRho2_.data();
-  double* wallRhoW = single ? wallRho_.data() : nullptr;
 #pragma omp parallel for schedule(static)
   for (Index j = 0; j < nAll; ++j) {
-    volW[j] = f.m[j] / f.rho[j];
-    pRho2W[j] = (f.p[j] - pOff) / (f.rho[j] * f.rho[j]);  // Eq. 5.2b's p_b / rho_b^2
-    if (wallRhoW) wallRhoW[j] = f.ph[j] == kPhaseFluid ? 0.0 : densityOf(*single, f.p[j]);
+    if (f.ph[j] == kPhaseFluid)
+      pRho2W[j] = (f.p[j] - pOff) / (f.rho[j] * f.rho[j]);  // Eq. 5.2b's p_b / rho_b^2
+    else
+      pRho2W[j] = single ? densityOf(*single, f.p[j]) : 0.0;
   }
-  const double* vol = volW;
+  const Volumes vol{f.m, f.rho};  // V = m / rho, computed per pair (fluid_pair.hpp)
   const double* pRho2 = pRho2W;
-  const double* wallRho = wallRhoW;
+  const double* wallRho = single ? pRho2W : nullptr;  // at boundary particles (above)
   const FluidFluidOptions ffOptions{pressureForm_, pOff, artificialViscosity_, h};
   if (nl.half) {
     forceLoopHalf<D>(sim, f, uShift, wallRho);  // fluid_half.cpp

@@ -166,6 +166,8 @@ class FluidModule : public Module {
   Fields fields(Simulation& sim) const;
   /// Widest per-particle sum of the symmetric loops (the scatter is sized for it at each layout).
   int halfWidth(int d) const;
+  /// The symmetric force loop's per-particle sums (forceLoopHalf's width).
+  int forceWidth(int d) const;
   template <int D> void kinematicsD(Simulation& sim);
   template <int D> void computeWallNormalsD(Simulation& sim);
   template <int D> void constitutiveD(Simulation& sim);
@@ -189,9 +191,10 @@ class FluidModule : public Module {
   std::vector<unsigned char> receives_;  // force loop: a moving fluid particle of a fluid material
 
   std::vector<MaterialData> mat_;  // by material id
-  // Scratch of the force loop (sized once, no allocation in the time loop): V = m / rho of every
-  // particle, and the single fluid's density at each boundary particle's pressure.
-  std::vector<double> vol_, wallRho_, pRho2_;  // pRho2_: (p - p_ref) / rho^2 (Eq. 5.2b)
+  // Scratch of the force loop (sized once, no allocation in the time loop): (p - p_ref) / rho^2
+  // (Eq. 5.2b) of each fluid particle and, at each boundary particle, the single fluid's density
+  // at its pressure (0 with several fluids). V = m / rho is computed per pair (Volumes).
+  std::vector<double> pRho2_;
   std::vector<unsigned char> wetFlag_;  // constitutive stage: boundary particle has a fluid neighbour
   Index wetBuild_ = -1, wetCount_ = -1;  // neighbour search and store size of the flags
   std::vector<double> gravity_;
@@ -233,6 +236,8 @@ class FluidModule : public Module {
   double lastWarned_ = 0.0;
   long long boundExceeded_ = 0;
   bool viscousFactorsReady_ = false;  // viscous_factor computed once (first evaluation)
+  bool viscous_ = true;   // a fluid material has viscosity > 0 (else the term 5.4 is zero)
+  bool factors_ = true;   // viscous_factor allocated and used (viscosity_normalisation and viscous_)
   bool movingBoundaries_ = false;   // a non-fluid particle that is not fixed (initialise)
   RealField boundaryAcceleration_;  // Simulation::previousAcceleration, when moving boundaries
   int dim_ = 2;

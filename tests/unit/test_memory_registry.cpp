@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <set>
 #include <string>
 #include <vector>
@@ -95,6 +96,73 @@ TEST(OnlyWhatASceneNeeds, FluidOnlySceneRunsOnlyTheFluidAndHasNoSolidDamageOrRig
   // What the fluid registered is what it uses: pressure, density rate, wall velocity.
   EXPECT_TRUE(s.sim->store.has("pressure"));
   EXPECT_TRUE(s.sim->store.has("density_rate"));
+}
+
+// An inviscid fluid (every fluid material at viscosity 0; artificial viscosity only, as case A
+// of docs/performance.md) holds neither the viscous normalisation factors nor the boundary's
+// no-slip velocity, and its symmetric loops' sums are narrower (issue 17, memory); and it moves
+// exactly as the full path does: with viscosity 1e-300 every viscous field, sum and pass is
+// there, but the viscous term (~1e-296 m/s^2) is below the round-off of every acceleration, so
+// the two runs must agree bit for bit, for the half list and the cell walk, with the artificial
+// viscosity and density diffusion against the walls on.
+TEST(OnlyWhatASceneNeeds, InviscidFluidHoldsNoViscousFactorsNorNoSlipVelocityAndMovesTheSame) {
+  auto scene = [](const std::string& viscosity, const std::string& list) {
+    std::string t = kFluid;
+    t.replace(t.find("viscosity: 1.0e-3"), 17, "viscosity: " + viscosity);
+    return t + "  artificial_viscosity: 0.1\n  density_diffusion: 0.1\nneighbour_list: " + list + "\n";
+  };
+  auto stateById = [](const Simulation& sim) {
+    const ParticleStore& st = sim.store;
+    const Index n = st.realCount();
+    const int d = sim.dimension();
+    std::vector<double> out(static_cast<size_t>(n) * (2 * d + 1));
+    const std::int32_t* id = st.data(st.id());
+    for (Index i = 0; i < n; ++i) {
+      double* o = out.data() + static_cast<size_t>(id[i]) * (2 * d + 1);
+      for (int a = 0; a < d; ++a) {
+        o[a] = st.data(st.position())[i * d + a];
+        o[d + a] = st.data(st.velocity())[i * d + a];
+      }
+      o[2 * d] = st.data(st.density())[i];
+    }
+    return out;
+  };
+  for (const char* list : {"half", "cells"}) {
+    Scene lean = loadSceneText(scene("0.0", list), "inviscid.yaml");
+    Scene full = loadSceneText(scene("1.0e-300", list), "tiny_viscosity.yaml");
+    step(lean, 40);
+    step(full, 40);
+    for (const char* f : {"viscous_factor", "viscous_factor_next", "wall_velocity"}) {
+      EXPECT_FALSE(lean.sim->store.has(f)) << list << " " << f;
+      EXPECT_TRUE(full.sim->store.has(f)) << list << " " << f;
+    }
+    // 32 B per particle less in the store in 2D (2 factors, 2 no-slip components) and narrower
+    // sums (2D: force loop 4 instead of 5, wall extrapolation 4 instead of 6 per particle).
+    EXPECT_EQ(full.sim->store.bytesPerParticle() - lean.sim->store.bytesPerParticle(), 32u) << list;
+    EXPECT_LT(lean.sim->module("fluid")->heldBytes(), full.sim->module("fluid")->heldBytes()) << list;
+    ASSERT_EQ(lean.sim->step, full.sim->step);
+    const std::vector<double> a = stateById(*lean.sim), b = stateById(*full.sim);
+    ASSERT_EQ(a.size(), b.size());
+    double moved = 0.0;
+    size_t differ = 0;
+    for (size_t k = 0; k < a.size(); ++k) differ += a[k] != b[k];
+    const int d = lean.sim->dimension();
+    for (size_t k = 0; k < a.size(); k += 2 * d + 1) moved = std::max(moved, std::abs(a[k + d + 1]));
+    EXPECT_EQ(differ, 0u) << list;
+    EXPECT_GT(moved, 1e-4) << list << ": the column must move (gravity) for the test to mean anything";
+  }
+}
+
+// The integrator's position copy r^n is read by the predictor-corrector only: verlet and
+// leapfrog register just the velocity copy (and one per integrated field; issue 17, memory).
+TEST(OnlyWhatASceneNeeds, PositionCopyOnlyForThePredictorCorrector) {
+  for (const char* scheme : {"verlet", "leapfrog", "predictor_corrector"}) {
+    Scene s = loadSceneText(std::string(kFluid) + "integrator: " + scheme + "\n", "scheme.yaml");
+    step(s, 2);
+    EXPECT_TRUE(s.sim->store.has("integrator_velocity")) << scheme;
+    EXPECT_EQ(s.sim->store.has("integrator_position"), std::string(scheme) == "predictor_corrector")
+        << scheme;
+  }
 }
 
 TEST(OnlyWhatASceneNeeds, SolidOnlySceneBuildsNoFluidSumsAndWithoutDamageNoDamageField) {
