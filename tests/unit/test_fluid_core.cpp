@@ -520,7 +520,7 @@ TEST(FluidContinuity, MassFormConservesEnergyPairwiseVolumeFormDoesNot) {
     fs::addMaterial(sim, "water", "fluid",
                     "{density: 1000, sound_speed: 10, viscosity: 0, background_pressure: 20}");
     FluidModule* fluid =
-        fs::addFluidModule(sim, std::string("{continuity_form: ") + forms[f] + "}");
+        fs::addFluidModule(sim, std::string("{continuity_form: ") + forms[f] + ", pressure_gradient: symmetric}");
     fs::addLattice(sim, {0, 0}, {L, L}, 0);
     fluid->initialise(sim);
     auto& st = sim.store;
