@@ -12,6 +12,8 @@
 #include <hdf5.h>
 
 #include <cstring>
+#include <filesystem>
+#include <system_error>
 #include <string>
 #include <vector>
 
@@ -170,11 +172,14 @@ std::vector<ModuleState> readModuleStates(const Simulation& sim, hid_t file,
 
 }  // namespace
 
-void writeCheckpoint(const Simulation& sim, const std::string& path,
-                     const std::string& signature, const ModuleState* integratorState) {
+namespace {
+
+// Writes the checkpoint into `target`; errors name `path`, the checkpoint the user asked for.
+void writeCheckpointInto(const std::string& target, const Simulation& sim, const std::string& path,
+                         const std::string& signature, const ModuleState* integratorState) {
   QuietHdf5 quiet;
   const ParticleStore& s = sim.store;
-  Handle file(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
+  Handle file(H5Fcreate(target.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
   if (file < 0) fail(path, "cannot create the file");
 
   {
@@ -226,6 +231,26 @@ void writeCheckpoint(const Simulation& sim, const std::string& path,
   if (integratorState && !integratorState->empty())
     writeStateGroup(file, "integrator", *integratorState, path);
   if (H5Fflush(file, H5F_SCOPE_GLOBAL) < 0) fail(path, "cannot flush the file");
+}
+
+}  // namespace
+
+void writeCheckpoint(const Simulation& sim, const std::string& path,
+                     const std::string& signature, const ModuleState* integratorState) {
+  // Written beside the old one and renamed over it once complete (rename is atomic on POSIX
+  // file systems): a run killed while writing (SIGKILL, a lost machine) keeps the previous
+  // checkpoint instead of a truncated file. Periodic checkpoints rely on it (docs/output.md).
+  const std::string part = path + ".part";
+  try {
+    writeCheckpointInto(part, sim, path, signature, integratorState);
+  } catch (...) {
+    std::error_code ignored;
+    std::filesystem::remove(part, ignored);
+    throw;
+  }
+  std::error_code ec;
+  std::filesystem::rename(part, path, ec);
+  if (ec) fail(path, "cannot move the completed checkpoint " + part + " into place: " + ec.message());
 }
 
 void readCheckpoint(Simulation& sim, const std::string& path,

@@ -251,6 +251,23 @@ RunResult runScene(Scene& scene, const RunOptions& options) {
   const Index startStep = sim.step;
   auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
 
+  // Periodic checkpoints (output.checkpoint_every_steps / checkpoint_every_wall; checked by
+  // scene.cpp, kept in the resolved scene).
+  const YAML::Node outNode = scene.resolved["output"];
+  const long checkpointEverySteps =
+      outNode["checkpoint_every_steps"] ? outNode["checkpoint_every_steps"].as<long>() : 0;
+  const double checkpointEveryWall =
+      outNode["checkpoint_every_wall"] ? outNode["checkpoint_every_wall"].as<double>() : 0.0;
+  Index lastCheckpointStep = sim.step;
+  auto lastCheckpointWall = start;
+  auto periodicCheckpointDue = [&] {
+    if (checkpointEverySteps > 0 && sim.step - lastCheckpointStep >= checkpointEverySteps)
+      return true;
+    return checkpointEveryWall > 0.0 &&
+           std::chrono::duration<double>(Clock::now() - lastCheckpointWall).count() >=
+               checkpointEveryWall;
+  };
+
   writeOutput();  // the initial (or restarted) state
   // The state a failed step is rolled back to (libcore/health.hpp): checkpoint and output
   // fields, copied every health.rollback_every steps.
@@ -293,6 +310,14 @@ RunResult runScene(Scene& scene, const RunOptions& options) {
       break;
     }
     if (outputDue()) writeOutput();
+    if (periodicCheckpointDue()) {
+      // The same state the end of the run would write (the step is complete): a run killed
+      // later restarts from here to round-off (docs/output.md "Checkpoints").
+      const ModuleState integratorState = integrator->saveState(sim);
+      writeCheckpoint(sim, checkpointPath, signature, &integratorState);
+      lastCheckpointStep = sim.step;
+      lastCheckpointWall = Clock::now();
+    }
 
     const auto now = Clock::now();
     if (log && std::chrono::duration<double>(now - lastProgress).count() >=

@@ -212,9 +212,16 @@ Scene buildScene(const YAML::Node& root, const std::string& file, const SceneOpt
       o.fail(steps ? "every_time" : "every_steps",
              "give exactly one of output.every_steps (snapshot every N steps) and "
              "output.every_time (every T seconds)");
+    // Periodic checkpoints (docs/scene-format.md): the runner reads them from the resolved
+    // scene (res), which the signature of a checkpoint leaves out with the rest of `output`.
+    const long checkpointSteps =
+        o.integer("checkpoint_every_steps", 0, 1, std::numeric_limits<long>::max());
+    const double checkpointWall = o.real("checkpoint_every_wall", 0.0, Range::positive());
     o.finish();
     if (steps) res["output"]["every_steps"] = scene.output.everySteps;
     else res["output"]["every_time"] = num(scene.output.everyTime);
+    if (checkpointSteps > 0) res["output"]["checkpoint_every_steps"] = checkpointSteps;
+    if (checkpointWall > 0.0) res["output"]["checkpoint_every_wall"] = num(checkpointWall);
   }
 
   // ---- health checks (libcore/health.hpp) ----

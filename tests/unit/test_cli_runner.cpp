@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 
 #include "libcore/runner.hpp"
 
@@ -20,6 +21,7 @@ struct ProbeControl {
   double g = 2.0;                  // m/s^2 along x
   double nanAfter = 1e30;          // acceleration becomes NaN once time exceeds this
   double interruptAfter = 1e30;    // raise(SIGINT) once time exceeds this
+  double crashAfter = 1e30;        // throw (a process killed without a word) once time exceeds this
   bool raised = false;
 };
 ProbeControl control;
@@ -44,6 +46,7 @@ class GravityProbe : public Module {
     const Index n = sim.store.realCount();
 #pragma omp parallel for schedule(static)
     for (Index i = 0; i < n; ++i) a[i * d] = value;
+    if (sim.time > control.crashAfter) throw std::runtime_error("simulated crash");
     if (sim.time > control.interruptAfter && !control.raised) {
       control.raised = true;
       std::raise(SIGINT);
@@ -183,6 +186,32 @@ TEST(Runner, SigintFinishesTheStepAndWritesACheckpoint) {
   const RunResult r2 = runScene(again, o);
   EXPECT_EQ(r2.status, RunStatus::Finished);
   EXPECT_EQ(r.steps + r2.steps, 20);
+  EXPECT_NEAR(again.sim->time, 0.01, 1e-15);
+  expectFreeFall(*again.sim, again.sim->time);
+}
+
+// output.checkpoint_every_steps: a run that dies without a signal or a numerical failure (here an
+// exception out of a module, as SIGKILL or a lost machine would leave it) keeps the last periodic
+// checkpoint, complete (no half-written file left), and the restart from it finishes the run on
+// the closed form.
+TEST(Runner, PeriodicCheckpointOutlivesACrash) {
+  control = ProbeControl{};
+  control.crashAfter = 0.0051;  // the first evaluation at t = 5.5 ms (step 11 or 12) throws
+  const std::string out = "{every_steps: 100, checkpoint_every_steps: 4}";
+  Scene s = load("crash.yaml", scene("leapfrog", out));
+  const RunOptions o = options("crash");
+  EXPECT_THROW(runScene(s, o), std::runtime_error);
+  const fs::path cp = fs::path(o.outDir) / "checkpoint.h5";
+  ASSERT_TRUE(fs::exists(cp)) << "no periodic checkpoint was written";
+  EXPECT_FALSE(fs::exists(cp.string() + ".part"));
+
+  control.crashAfter = 1e30;
+  Scene again = load("crash.yaml", scene("leapfrog", out));
+  RunOptions o2 = options("crash_resumed");
+  o2.restartFrom = cp.string();
+  const RunResult r2 = runScene(again, o2);
+  EXPECT_EQ(r2.status, RunStatus::Finished);
+  EXPECT_EQ(r2.steps, 20 - 8) << "the last periodic checkpoint before the crash is step 8";
   EXPECT_NEAR(again.sim->time, 0.01, 1e-15);
   expectFreeFall(*again.sim, again.sim->time);
 }
