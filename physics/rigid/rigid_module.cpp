@@ -917,6 +917,24 @@ void RigidModule::initialise(Simulation& sim) {
     densityRate_ = st.has("density_rate") ? st.real("density_rate") : RealField{};
   }
   findSurface(sim);
+  {
+    // A body with no particle within one support of its surface (it fills every lattice site of
+    // a periodic domain) has no neighbour of another phase: nothing could ever act on it.
+    std::vector<Index> surfaceCount(bodies_.size(), 0);
+    const std::int32_t* surf = st.data(surface_);
+    const std::int32_t* body = st.data(body_);
+    for (Index i = 0; i < st.realCount(); ++i)
+      if (body[i] >= 0 && surf[i]) ++surfaceCount[static_cast<size_t>(body[i])];
+    for (size_t b = 0; b < bodies_.size(); ++b)
+      if (surfaceCount[b] == 0) {
+        const RigidMaterial& rm = *materialOf(bodies_[b].material);
+        throw InputError("rigid: body " + std::to_string(b) + " of material '" + rm.name + "' (" +
+                         std::to_string(bodies_[b].count) +
+                         " particles) has no particle within one kernel support of its surface: "
+                         "it fills the periodic domain, so no other particle can ever touch it; "
+                         "leave room for another phase or drop the body (" + rm.where + ")");
+      }
+  }
   if (bonds_) initialiseBonds(sim);
   plateBonds_.clear();
   if (plateSlots_ > 0)

@@ -110,6 +110,14 @@ TEST(Rigid, RefusesBadBodiesWithClearMessages) {
               "  - {shape: box, lo: [0.7, 0.3], hi: [0.9, 0.7], material: east}\n", "thin.yaml");
   EXPECT_NE(e.find("four kernel supports"), std::string::npos) << e;
   EXPECT_NE(e.find("thin.yaml"), std::string::npos) << e;
+  // A body with no surface particle (it fills a periodic domain): nothing could touch it.
+  e = errorOf("dimension: 2\ndomain: {lo: [0, 0], hi: [1, 1], periodic: [true, true]}\nspacing: 0.1\n"
+              "end_time: 1\ntime_step: {dt: 1.0e-3}\noutput: {every_steps: 100}\nmaterials:\n"
+              "  - {name: slab, model: rigid, density: 2000}\ngeometry:\n"
+              "  - {shape: box, lo: [0, 0], hi: [1, 1], material: slab}\n", "full.yaml");
+  EXPECT_NE(e.find("no particle within one kernel support of its surface"), std::string::npos) << e;
+  EXPECT_NE(e.find("'slab'"), std::string::npos) << e;
+  EXPECT_NE(e.find("full.yaml"), std::string::npos) << e;
 }
 
 TEST(Rigid, SymmetricRepulsionIsActionEqualsReaction) {
