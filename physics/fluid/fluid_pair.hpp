@@ -125,10 +125,23 @@ inline FluidFluidCoefficients<Real> fluidFluidCoefficients(
   return c;
 }
 
+/// Forced inlining of the per-pair function of the scalar pair loops. With three pressure forms
+/// (bed210c added Eq. 5.2a) times the artificial-viscosity switch, fluidFluidPair grew past GCC
+/// 12's inlining limits and was called out of line from the gather loop (fluid_module.cpp) and
+/// the half list's scalar path (fluid_half.cpp): arguments and results through memory on every
+/// pair, +14 % instructions of the 2D two-phase step (oscillating drop, callgrind; docs/
+/// performance.md). Inlining does not change the arithmetic of the default build (baseline
+/// x86-64, no FMA to contract into), so the results are bit for bit those of the call.
+#if defined(__GNUC__)
+#define PORESPH_PAIR_INLINE inline __attribute__((always_inline))
+#else
+#define PORESPH_PAIR_INLINE inline
+#endif
+
 /// The pair terms of a (and of b when kBoth) as vectors: r = x_a - x_b, gradW = F r, vab = v_a -
 /// v_b, muBar the mean viscosity (Eq. 5.4), fab the pair's lattice normalisation factor.
 template <int D, bool kBoth>
-inline void fluidFluidPair(const Vec<D>& r, const Vec<D>& gradW, double F, const Vec<D>& vab,
+PORESPH_PAIR_INLINE void fluidFluidPair(const Vec<D>& r, const Vec<D>& gradW, double F, const Vec<D>& vab,
                            const FluidPairParticle& a, const FluidPairParticle& b, double muBar,
                            double fab, const FluidFluidOptions& o, FluidFluidAccel<D>& ta,
                            FluidFluidAccel<D>& tb) {
