@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <ctime>
 #include <vector>
 #include <string>
 
@@ -252,6 +254,132 @@ geometry:
               100.0 * static_cast<double>(surface) / static_cast<double>(total));
   EXPECT_LT(surface, total);
   EXPECT_GT(surface, total / 3);
+}
+
+// App. A.2, what the surface restriction saves: a ball of radius R dx at rest in a periodic cube
+// of viscous fluid moving past it. The same scene run twice, once as found and once with every
+// body particle marked as surface (the pair loop then visits the interior too), gives the same
+// particles bit for bit after a few steps: an interior particle's neighbours are its own body's
+// (asserted for every one of them), so skipping it changes nothing. The saving is counted
+// (neighbour-list entries the pair loop visits) and timed (the rigid module's `interfaces`
+// stage alone, repeated; printed, not asserted: the machine is shared). RIGID_A2_PROBE="cells
+// radius repeats" sizes a study run (docs/rigid.md "What A.2 saves").
+TEST(Rigid, SurfaceOnlyPairLoopSkipsTheInteriorExactly) {
+  int cells = 20, reps = 5;
+  double radius = 7.0;
+  if (const char* env = std::getenv("RIGID_A2_PROBE")) std::sscanf(env, "%d %lf %d", &cells, &radius, &reps);
+  const double dx = 1.0e-3, L = cells * dx, c = 0.5 * L;
+  char text[2048];
+  std::snprintf(text, sizeof text, R"(dimension: 3
+domain: {lo: [0, 0, 0], hi: [%.9g, %.9g, %.9g], periodic: [true, true, true]}
+spacing: 0.001
+kernel: wendland_c2
+integrator: leapfrog
+end_time: 1
+time_step: {dt: 2.0e-5}
+output: {every_steps: 1000000}
+materials:
+  - {name: oil, model: fluid, density: 1000, sound_speed: 1.0, viscosity: 0.1}
+  - {name: ball, model: rigid, density: 2000}
+geometry:
+  - {shape: box, lo: [0, 0, 0], hi: [%.9g, %.9g, %.9g], material: oil, velocity: [0.01, 0.002, 0]}
+  - {shape: sphere, centre: [%.9g, %.9g, %.9g], radius: %.9g, material: ball}
+rigid: {gravity: [0, -1.0, 0]}
+)", L, L, L, L, L, L, c, c, c, radius * dx);
+  Scene a = loadSceneText(text, "a2.yaml");
+  Scene b = loadSceneText(text, "a2.yaml");
+  auto* rigid = dynamic_cast<RigidModule*>(a.sim->module("rigid"));
+  ASSERT_NE(rigid, nullptr);
+  ASSERT_EQ(rigid->bodies().size(), 1u);
+  ParticleStore& sa = a.sim->store;
+  ParticleStore& sb = b.sim->store;
+  const Index n = sa.realCount();
+  const std::int32_t* body = sa.data(sa.integer("body"));
+  const std::int32_t* ph = sa.data(sa.phase());
+  std::int32_t* surfB = sb.data(sb.integer("body_surface"));
+  const std::int32_t* surfA = sa.data(sa.integer("body_surface"));
+  const Index bodyCount = rigid->bodies()[0].count, surface = rigid->surfaceParticles(*a.sim);
+  for (Index i = 0; i < n; ++i)
+    if (body[i] >= 0) surfB[i] = 1;  // scene b: every body particle takes part in the pair loop
+  auto run = [](Scene& s, int steps) {
+    auto integrator = makeIntegrator("leapfrog");
+    for (int k = 0; k < steps; ++k) integrator->step(*s.sim, 2.0e-5);
+  };
+  run(a, 3);
+  run(b, 3);
+  // every neighbour of an interior particle is a particle of its own body
+  const NeighbourList& nl = a.sim->neighbours;
+  std::int64_t entriesAll = 0, entriesBody = 0, entriesSurface = 0, foreign = 0;
+  entriesAll = nl.pairCount();
+  for (Index i = 0; i < n; ++i) {
+    if (ph[i] != kPhaseRigid) continue;
+    const std::int64_t e = nl.offset[i + 1] - nl.offset[i];
+    entriesBody += e;
+    if (surfA[i]) {
+      entriesSurface += e;
+      continue;
+    }
+    for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
+      const Index j = nl.index[static_cast<size_t>(k)];
+      const Index jr = j < n ? j : -1;  // a ghost image of a body particle
+      if (ph[j] != kPhaseRigid || (jr >= 0 && body[jr] != body[i])) ++foreign;
+    }
+  }
+  EXPECT_EQ(foreign, 0) << "an interior body particle has a neighbour of another phase or body";
+  EXPECT_LT(surface, bodyCount);
+  double worst = 0.0, scale = 0.0;
+  for (Index i = 0; i < n; ++i) {
+    worst = std::max(worst, (sa.vec<3>(sa.velocity(), i) - sb.vec<3>(sb.velocity(), i)).norm());
+    worst = std::max(worst, (sa.vec<3>(sa.position(), i) - sb.vec<3>(sb.position(), i)).norm());
+    scale = std::max(scale, sa.vec<3>(sa.velocity(), i).norm());
+  }
+  EXPECT_EQ(worst, 0.0) << "skipping the interior changed the motion (largest speed " << scale << ")";
+  EXPECT_GT(std::abs(rigid->bodies()[0].state.V[0]), 0.0) << "the fluid did not drag the ball";
+  // time the rigid module's pair stage alone (it adds into the accelerations again: harmless here)
+  auto cpu = [](Scene& s, int repeats) {
+    Module* r = s.sim->module("rigid");
+    const std::clock_t t0 = std::clock();
+    for (int k = 0; k < repeats; ++k) r->interfaces(*s.sim);
+    return static_cast<double>(std::clock() - t0) / CLOCKS_PER_SEC / repeats;
+  };
+  double tSurface = 1e30, tAll = 1e30;
+  for (int k = 0; k < 3; ++k) {
+    tSurface = std::min(tSurface, cpu(a, reps));
+    tAll = std::min(tAll, cpu(b, reps));
+  }
+  auto stepCpu = [&](Scene& s) {  // CPU seconds of one step
+    const std::clock_t s0 = std::clock();
+    run(s, 1);
+    return static_cast<double>(std::clock() - s0) / CLOCKS_PER_SEC;
+  };
+  const double tStep = stepCpu(a);
+  if (std::getenv("RIGID_A2_PROBE")) {
+    // the most A.2 could save anywhere (neighbour search, every stage): the same ball hollowed
+    // out, its interior (beyond one support, 2.6 dx, of the surface) holding no particle at all
+    std::string hollow = text;
+    char inner[256];
+    std::snprintf(inner, sizeof inner, "  - {shape: sphere, centre: [%.9g, %.9g, %.9g], radius: %.9g, material: none}\n",
+                  c, c, c, (radius - 2.6) * dx);
+    hollow.insert(hollow.find("rigid: {gravity"), inner);
+    Scene h = loadSceneText(hollow, "a2_hollow.yaml");
+    run(h, 3);
+    double tHollow = 1e30, tFull = 1e30;  // alternated, the fastest of ten steps each
+    for (int k = 0; k < 10; ++k) {
+      tFull = std::min(tFull, stepCpu(a));
+      tHollow = std::min(tHollow, stepCpu(h));
+    }
+    std::printf("  whole step: full ball %.3g ms, hollow shell (%lld particles) %.3g ms: %.1f %% less\n", 1e3 * tFull,
+                static_cast<long long>(h.sim->store.realCount()), 1e3 * tHollow, 100.0 * (1.0 - tHollow / tFull));
+  }
+  std::printf("  ball of radius %.3g dx in a %d^3 fluid cell (%lld particles): %lld of %lld body particles on "
+              "the surface (%.0f %%); neighbour entries: body %lld (%.1f %% of the list's %lld), of which the "
+              "pair loop visits %lld (%.0f %%); rigid interfaces stage %.3g ms (surface only) vs %.3g ms (all): "
+              "saves %.3g ms per evaluation; one whole step %.3g ms\n",
+              radius, cells, static_cast<long long>(n), static_cast<long long>(surface),
+              static_cast<long long>(bodyCount), 100.0 * surface / bodyCount, static_cast<long long>(entriesBody),
+              100.0 * entriesBody / entriesAll, static_cast<long long>(entriesAll),
+              static_cast<long long>(entriesSurface), 100.0 * entriesSurface / entriesBody, 1e3 * tSurface,
+              1e3 * tAll, 1e3 * (tAll - tSurface), 1e3 * tStep);
 }
 
 // Bodies longer than half a periodic axis: their centre of mass is the middle of their particles
