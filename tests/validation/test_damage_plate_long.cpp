@@ -48,7 +48,8 @@ TEST(DamagePlateLong, TensionAT2At150x150With2h5mm) {
   EXPECT_LT(r.asymmetry, 0.10);
   EXPECT_GT(r.widthCross, 0.5 * s.support);
   EXPECT_LT(r.widthCross, 2.0 * s.support);
-  EXPECT_LT(r.balance, 0.03) << "energy balance residual / work of the boundaries";
+  // the 1 % (measured 0.14 % with the evaluation commit; 1.8 % with step_end)
+  EXPECT_LT(r.balance, 0.01) << "energy balance residual / work of the boundaries";
   const std::string res = "150 x 150 points (dx = 2 mm), 2h = 5 mm, TL, no hourglass control, damping 600/s";
   test::recordValidation({"damage_plate_150_at2_tension", "imposed displacement at onset [um]",
                           1e6 * r.uOnset, 17.4, std::abs(1e6 * r.uOnset - 17.4) / 17.4, res, r.wall,
