@@ -46,6 +46,9 @@ struct PlateSetup {
   /// with clampBottom: hold the bottom layer along y only (a roller, x free, as the top), so its
   /// ends are no clamped corners (a free rigid inclusion, issue 15 validation 5)
   bool bottomRoller = false;
+  /// with bottomRoller: the bottom's imposed y displacement at the end of the ramp (0: held; a
+  /// symmetric pull, top +uMax and bottom -uMax, keeps a free inclusion at rest: issue 15 item 5)
+  double bottomUy = 0.0;
   long maxSteps = -1;         ///< stop after so many steps (cost measurements), -1: the whole ramp
   Inclusion inclusion = Inclusion::Clamped;
   double bodyDamping = 600.0; ///< 1/s, the free body's `damping` (as the clay's: quasi-static)
@@ -159,9 +162,9 @@ inline PlateResult runPlate(const PlateSetup& s) {
   char bottomBuf[200];
   if (s.bottomRoller)
     std::snprintf(bottomBuf, sizeof bottomBuf,
-                  "{name: bottom, type: displacement, displacement: [0, 0], components: [y], "
+                  "{name: bottom, type: displacement, displacement: [0, %.9g], components: [y], "
                   "ramp_time: %.9g, box: {min: [-1, -1], max: [1, %.9g]}}, ",
-                  ramp, -0.5 * L + s.support);
+                  s.bottomUy, ramp, -0.5 * L + s.support);
   else
     std::snprintf(bottomBuf, sizeof bottomBuf,
                   "{name: bottom, type: clamped, box: {min: [-1, -1], max: [1, %.9g]}}, ",

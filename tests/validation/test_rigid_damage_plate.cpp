@@ -5,7 +5,9 @@
 // resolution of the damage module's default test (60 x 60, dx = 5 mm, 2h = 12.5 mm, AT-2 in
 // tension, bottom layer held, TL without hourglass control).
 // RIGID_PLATE_PROBE="clamped|fixed|free [dumpPrefix]" runs one variant and prints it (the dumps:
-// CSV of X, Y, x, y, D at onset, crossing and end, rendered in docs/rigid.md).
+// CSV of X, Y, x, y, D at onset, crossing and end, rendered in docs/rigid.md); RIGID_PLATE_UMAX
+// (m) and RIGID_PLATE_RAMP (P-wave crossings) change the ramp, RIGID_PLATE_SYMMETRIC=1 pulls the
+// top by +UMAX/2 and the bottom (a roller) by -UMAX/2 (docs/rigid.md "Symmetric pull").
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -62,7 +64,18 @@ TEST(RigidDamagePlate, Probe) {
   PlateSetup s = coarse(k);
   s.dump = dump;
   if (const char* u = std::getenv("RIGID_PLATE_UMAX")) s.uMax = std::atof(u);
-  print(k, runPlate(s));
+  if (const char* t = std::getenv("RIGID_PLATE_RAMP")) s.rampCrossings = std::atof(t);
+  if (std::getenv("RIGID_PLATE_SYMMETRIC")) {  // top +uMax/2, bottom -uMax/2 (a roller)
+    s.uMax *= 0.5;
+    s.bottomRoller = true;
+    s.bottomUy = -s.uMax;
+  }
+  const PlateResult r = runPlate(s);
+  print(k, r);
+  const double a = 0.05;
+  const Crack kr = crackBeside(r, s.dx, a + 2 * s.support, a, s.support);
+  std::printf("  crack beside the inclusion at crossing: mean height %.1f mm, %.0f %% within 2h of y = +-a, %ld sites\n",
+              1e3 * kr.height, 100 * kr.inBand, kr.count);
 }
 
 // Validation 5 of issue 15. Three runs of the coarse plate: the damage module's clamped material
