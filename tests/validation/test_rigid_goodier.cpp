@@ -211,7 +211,8 @@ TEST(RigidGoodier, Probe) {
 }
 
 // a = 6 dx, plate 10 a across (3,600 particles, ~4,000 steps). Measured: interface sigma_rr(a, 0)
-// 1.4906 S (Goodier 1.5 S, -0.6 %), sigma_rt amplitude 0.796 S (0.75 S, +6.1 %); at 4 dx per
+// 1.4906 S (Goodier 1.5 S, -0.6 %), sigma_rt amplitude 0.796 S (0.75 S, +6.1 %) when written
+// (2026-11-23); 1.4875 S (-0.8 %) / 0.808 S (+7.8 %) at the 2026-11-27 HEAD; at 4 dx per
 // radius 1.537 S (+2.5 %) / 0.843 S (+12 %); at 8, 1.496 S (-0.2 %) / 0.804 S (+7.2 %); the
 // sigma_xx profile of the clay from 1.4 a outward within 0.045 S of Goodier's (the finite width
 // W = 5 a adds ~0.04 S: with W = 8 a the interface values are 1.536 / 0.831 S). The clay's own
