@@ -64,8 +64,9 @@ void print(const char* name, const PlateResult& r) {
 
 }  // namespace
 
-// Study: RIGID_PLATE_LONG_PROBE="clamped|fixed|free [roller] [uMax_um]" runs one variant (roller:
-// the bottom layer held along y only, PlateSetup::bottomRoller) and prints it.
+// Study: RIGID_PLATE_LONG_PROBE="clamped|fixed|free [roller] [symmetric] [uMax_um]" runs one variant
+// (roller: the bottom layer held along y only, PlateSetup::bottomRoller; symmetric: the bottom
+// pulled by -uMax as the top by +uMax, docs/rigid.md "Symmetric pull") and prints it.
 TEST(RigidDamagePlateLong, Probe) {
   const char* env = std::getenv("RIGID_PLATE_LONG_PROBE");
   if (!env) GTEST_SKIP() << "set RIGID_PLATE_LONG_PROBE=\"clamped|fixed|free [roller] [uMax_um]\"";
@@ -80,8 +81,17 @@ TEST(RigidDamagePlateLong, Probe) {
     s.rampCrossings *= u / s.uMax;  // the same rate
     s.uMax = u;
   }
+  if (text.find("symmetric") != std::string::npos) {  // top +uMax, bottom (a roller) -uMax
+    s.bottomRoller = true;
+    s.bottomUy = -s.uMax;
+  }
   if (!s.dump.empty()) s.dump += s.bottomRoller ? "_roller" : "";
-  print(text.c_str(), runPlate(s));
+  const PlateResult r = runPlate(s);
+  print(text.c_str(), r);
+  const double a = 0.05;
+  const Crack kc = crackBeside(r, s.dx, a + 2 * s.support, a, 4 * s.support);
+  std::printf("  crack beside the inclusion at crossing: mean height %.1f mm, %.0f %% within 4 supports of y = +-a, "
+              "%ld sites\n", 1e3 * kc.height, 100 * kc.inBand, kc.count);
 }
 
 // Validation 5 of issue 15 at 150 x 150. The bottom layer is held along y only (a roller, as the
