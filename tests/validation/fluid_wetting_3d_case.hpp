@@ -22,14 +22,13 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <ctime>
-#include <fstream>
 #include <string>
 #include <vector>
 
 #include "libcore/phases.hpp"
 #include "physics/fluid/fluid_setup.hpp"
 #include "tests/support/validation_record.hpp"
+#include "tests/support/wetting_case_run.hpp"
 
 namespace poresph::test {
 
@@ -155,13 +154,7 @@ struct Sessile3D {
 
   /// x y z material (0 liquid, 1 gas, 2 wall) per line.
   void dump(const std::string& name) const {
-    const auto& st = sim.store;
-    std::ofstream f(std::string(PORESPH_BINARY_DIR) + "/" + name);
-    const double* x = st.data(st.position());
-    const std::int32_t* mt = st.data(st.material());
-    for (Index i = 0; i < st.realCount(); ++i)
-      f << x[3 * i] << " " << x[3 * i + 1] << " " << x[3 * i + 2] << " "
-        << (mt[i] == liquid ? 0 : mt[i] == gas ? 1 : 2) << "\n";
+    dumpParticles(sim, name, [this](std::int32_t m) { return m == liquid ? 0 : m == gas ? 1 : 2; });
   }
 };
 
@@ -176,8 +169,7 @@ struct Wetting3DResult {
 inline Wetting3DResult runSessile3D(double thetaDeg, int rdx, double tStart, double tEnd, double viscosity,
                                     const std::string& extra, double every = 0.005, double boxHalf = 2.0,
                                     double boxHeight = 2.0, const std::string& tag = "") {
-  Stopwatch clock;
-  const std::clock_t c0 = std::clock();
+  const RunCost cost;
   Sessile3D s(thetaDeg, 1.5e-3, rdx, extra, viscosity, boxHalf, boxHeight);
   Wetting3DResult r;
   double rc = 0, zc = 0;
@@ -192,25 +184,20 @@ inline Wetting3DResult runSessile3D(double thetaDeg, int rdx, double tStart, dou
       std::fflush(stdout);
     }
   s.stepper.runTo(s.sim, tStart);
-  for (double t = tStart; t <= tEnd * (1 + 1e-9); t += every) {
-    s.stepper.runTo(s.sim, t);
-    const double a = s.contactAngle(rc, zc, np);
-    if (verbose)
-      std::printf("  t %.1f ms: sphere fit %.2f deg (r %.2f dx, %d points), max speed %.3g m/s\n", 1e3 * t, a,
-                  rc / s.dx, np, s.maxSpeed());
-    r.mean += a;
-    r.lo = std::min(r.lo, a);
-    r.hi = std::max(r.hi, a);
-    ++r.samples;
-  }
-  r.mean /= r.samples;
+  const WindowMean w = sampleWindow(
+      tStart, tEnd, every, [&](double t) { s.stepper.runTo(s.sim, t); },
+      [&](double t) {
+        const double a = s.contactAngle(rc, zc, np);
+        if (verbose)
+          std::printf("  t %.1f ms: sphere fit %.2f deg (r %.2f dx, %d points), max speed %.3g m/s\n", 1e3 * t, a,
+                      rc / s.dx, np, s.maxSpeed());
+        return a;
+      });
+  r.mean = w.mean, r.lo = w.lo, r.hi = w.hi, r.samples = w.samples;
   double H = 0, V = 0;
   r.cap = s.capAngle(H, V);
   r.speed = s.maxSpeed();
-  r.steps = static_cast<long long>(s.sim.step);
-  r.particles = static_cast<long long>(s.sim.store.realCount());
-  r.wall = clock.seconds();
-  r.cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
+  cost.finish(s.sim, r);
   std::printf("3D sessile theta %.0f R0/dx %d mu %g%s: sphere fit mean %.2f deg over [%.0f, %.0f] ms (%d samples, %.2f to "
               "%.2f), cap %.2f at the end (H %.2f dx), max speed %.3g m/s (Ca %.2e), %lld particles, %lld steps, "
               "%.1f s wall, %.1f s CPU\n",

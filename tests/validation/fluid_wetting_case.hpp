@@ -19,8 +19,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <ctime>
-#include <fstream>
 #include <string>
 #include <vector>
 
@@ -28,6 +26,7 @@
 #include "physics/fluid/fluid_setup.hpp"
 #include "tests/support/interface_circle.hpp"
 #include "tests/support/validation_record.hpp"
+#include "tests/support/wetting_case_run.hpp"
 
 namespace poresph::test {
 
@@ -185,13 +184,8 @@ struct TiltedSessile {
     return 0.5 * (lo + hi) * 180.0 / kPi;
   }
 
-  void dump(const std::string& name) const {
-    const auto& st = sim.store;
-    std::ofstream f(std::string(PORESPH_BINARY_DIR) + "/" + name);
-    const double* x = st.data(st.position());
-    const std::int32_t* mt = st.data(st.material());
-    for (Index i = 0; i < st.realCount(); ++i) f << x[2 * i] << " " << x[2 * i + 1] << " " << mt[i] << "\n";
-  }
+  /// x y material per line (tests/support/wetting_case_run.hpp).
+  void dump(const std::string& name) const { dumpParticles(sim, name, [](std::int32_t m) { return m; }); }
 };
 
 struct WettingResult {
@@ -260,28 +254,19 @@ struct WettingAverage {
 
 inline WettingAverage runWettingAverage(double thetaDeg, double alphaDeg, int rdx, double tEnd, double viscosity,
                                         const std::string& extra = "", double every = 0.005, double boxLength = 5.0) {
-  Stopwatch clock;
-  const std::clock_t c0 = std::clock();
+  const RunCost cost;
   TiltedSessile s(thetaDeg, alphaDeg, 1.5e-3, rdx, extra, viscosity, 0.9, boxLength);
   WettingAverage r;
   double rc = 0, sc = 0;
   int np = 0;
   s.stepper.runTo(s.sim, 0.5 * tEnd);
-  for (double t = 0.5 * tEnd; t <= tEnd * (1 + 1e-9); t += every) {
-    s.stepper.runTo(s.sim, t);
-    const double a = s.contactAngle(rc, sc, np);
-    r.mean += a;
-    r.lo = std::min(r.lo, a);
-    r.hi = std::max(r.hi, a);
-    ++r.samples;
-  }
-  r.mean /= r.samples;
+  const WindowMean w = sampleWindow(
+      0.5 * tEnd, tEnd, every, [&](double t) { s.stepper.runTo(s.sim, t); },
+      [&](double) { return s.contactAngle(rc, sc, np); });
+  r.mean = w.mean, r.lo = w.lo, r.hi = w.hi, r.samples = w.samples;
   double H = 0, A = 0;
   r.cap = s.capAngle(H, A);
-  r.steps = static_cast<long long>(s.sim.step);
-  r.particles = static_cast<long long>(s.sim.store.realCount());
-  r.wall = clock.seconds();
-  r.cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
+  cost.finish(s.sim, r);
   std::printf("wetting theta %.0f tilt %.0f R0/dx %d mu %g: mean %.2f deg over [%.0f, %.0f] ms (%d samples, %.2f to %.2f), "
               "cap %.2f at the end, %lld particles, %lld steps, %.1f s wall, %.1f s CPU\n",
               thetaDeg, alphaDeg, rdx, viscosity, r.mean, 500 * tEnd, 1e3 * tEnd, r.samples, r.lo, r.hi, r.cap,

@@ -25,8 +25,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <ctime>
-#include <fstream>
 #include <limits>
 #include <string>
 #include <vector>
@@ -35,6 +33,7 @@
 #include "physics/fluid/fluid_setup.hpp"
 #include "tests/support/interface_circle.hpp"
 #include "tests/support/validation_record.hpp"
+#include "tests/support/wetting_case_run.hpp"
 
 namespace poresph::test {
 
@@ -163,13 +162,8 @@ struct CurvedSessile {
     return std::acos(std::clamp(nd.dot(nw), -1.0, 1.0)) * 180.0 / kPi;
   }
 
-  void dump(const std::string& name) const {
-    const auto& st = sim.store;
-    std::ofstream f(std::string(PORESPH_BINARY_DIR) + "/" + name);
-    const double* x = st.data(st.position());
-    const std::int32_t* mt = st.data(st.material());
-    for (Index i = 0; i < st.realCount(); ++i) f << x[2 * i] << " " << x[2 * i + 1] << " " << mt[i] << "\n";
-  }
+  /// x y material per line (tests/support/wetting_case_run.hpp).
+  void dump(const std::string& name) const { dumpParticles(sim, name, [](std::int32_t m) { return m; }); }
 };
 
 struct CurvedWettingResult {
@@ -182,27 +176,18 @@ struct CurvedWettingResult {
 /// (sampled every `every` seconds; a sample without contact points makes the mean NaN).
 inline CurvedWettingResult runCurvedWetting(double thetaDeg, bool outside, double rcOverR0, int rdx, double tEnd,
                                             double viscosity, const std::string& extra, double every = 0.005) {
-  Stopwatch clock;
-  const std::clock_t c0 = std::clock();
+  const RunCost cost;
   CurvedSessile s(thetaDeg, outside, rcOverR0, 1.5e-3, rdx, extra, viscosity);
   CurvedWettingResult r;
   double rd = 0;
   int np = 0;
   s.stepper.runTo(s.sim, 0.5 * tEnd);
-  for (double t = 0.5 * tEnd; t <= tEnd * (1 + 1e-9); t += every) {
-    s.stepper.runTo(s.sim, t);
-    const double a = s.contactAngle(rd, np);
-    r.mean += a;
-    r.lo = std::min(r.lo, a);
-    r.hi = std::max(r.hi, a);
-    ++r.samples;
-  }
-  r.mean /= r.samples;
+  const WindowMean w = sampleWindow(
+      0.5 * tEnd, tEnd, every, [&](double t) { s.stepper.runTo(s.sim, t); },
+      [&](double) { return s.contactAngle(rd, np); });
+  r.mean = w.mean, r.lo = w.lo, r.hi = w.hi, r.samples = w.samples;
   r.rd = rd;
-  r.steps = static_cast<long long>(s.sim.step);
-  r.particles = static_cast<long long>(s.sim.store.realCount());
-  r.wall = clock.seconds();
-  r.cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
+  cost.finish(s.sim, r);
   std::printf("curved wetting theta %.0f %s Rc %.1f R0, R0/dx %d: mean %.2f deg over [%.0f, %.0f] ms (%d samples, "
               "%.2f to %.2f), drop radius %.2f dx, %lld particles, %lld steps, %.1f s wall, "
               "%.1f s CPU\n",

@@ -31,8 +31,6 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
-#include <ctime>
-#include <fstream>
 #include <string>
 #include <vector>
 
@@ -40,6 +38,7 @@
 #include "physics/fluid/fluid_setup.hpp"
 #include "tests/support/interface_circle.hpp"
 #include "tests/support/validation_record.hpp"
+#include "tests/support/wetting_case_run.hpp"
 #include "tests/validation/fluid_wetting_case.hpp"  // test::kWettingGhostSettings
 
 namespace poresph::test {
@@ -191,13 +190,8 @@ struct MovingSessile {
     return A;
   }
 
-  void dump(const std::string& name) const {
-    const auto& st = sim.store;
-    std::ofstream f(std::string(PORESPH_BINARY_DIR) + "/" + name);
-    const double* x = st.data(st.position());
-    const std::int32_t* mt = st.data(st.material());
-    for (Index i = 0; i < st.realCount(); ++i) f << x[2 * i] << " " << x[2 * i + 1] << " " << mt[i] << "\n";
-  }
+  /// x y material per line (tests/support/wetting_case_run.hpp).
+  void dump(const std::string& name) const { dumpParticles(sim, name, [](std::int32_t m) { return m; }); }
 };
 
 struct MovingWettingResult {
@@ -211,8 +205,7 @@ struct MovingWettingResult {
 /// its travel over the window against the plate's, U (t2 - t1).
 inline MovingWettingResult runMovingWetting(const MovingSessileParams& p, double tEnd = 0.12, double every = 0.005,
                                             const char* dumpName = nullptr) {
-  Stopwatch clock;
-  const std::clock_t c0 = std::clock();
+  const RunCost cost;
   MovingSessile s(p);
   MovingWettingResult r;
   const double t1 = 0.5 * tEnd;
@@ -227,31 +220,26 @@ inline MovingWettingResult runMovingWetting(const MovingSessileParams& p, double
   s.followDrop();
   const double x1 = s.xc;
   double vsum = 0;
-  for (double t = t1; t <= tEnd * (1 + 1e-9); t += every) {
-    s.stepper.runTo(s.sim, t);
-    const auto A = s.angles();
-    r.mean += A.full;
-    r.front += A.front;
-    r.rear += A.rear;
-    r.lo = std::min(r.lo, A.full);
-    r.hi = std::max(r.hi, A.full);
-    const double vd = s.followDrop();
-    vsum += vd;
-    ++r.samples;
-    if (std::getenv("WETTING_MOVING_SERIES"))
-      std::printf("  t %.0f ms: angle %.2f front %.2f rear %.2f, drop speed %.4f U\n", 1e3 * t, A.full, A.front,
-                  A.rear, vd / (p.U != 0.0 ? p.U : 1.0));
-  }
-  r.mean /= r.samples;
+  const WindowMean w = sampleWindow(
+      t1, tEnd, every, [&](double t) { s.stepper.runTo(s.sim, t); },
+      [&](double t) {
+        const auto A = s.angles();
+        r.front += A.front;
+        r.rear += A.rear;
+        const double vd = s.followDrop();
+        vsum += vd;
+        if (std::getenv("WETTING_MOVING_SERIES"))
+          std::printf("  t %.0f ms: angle %.2f front %.2f rear %.2f, drop speed %.4f U\n", 1e3 * t, A.full, A.front,
+                      A.rear, vd / (p.U != 0.0 ? p.U : 1.0));
+        return A.full;
+      });
+  r.mean = w.mean, r.lo = w.lo, r.hi = w.hi, r.samples = w.samples;
   r.front /= r.samples;
   r.rear /= r.samples;
   const double Uref = p.U != 0.0 ? p.U : 1.0;
   r.speed = vsum / r.samples / Uref;
   r.travel = (s.xc - x1) / (Uref * (tEnd - t1));
-  r.steps = static_cast<long long>(s.sim.step);
-  r.particles = static_cast<long long>(s.sim.store.realCount());
-  r.wall = clock.seconds();
-  r.cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
+  cost.finish(s.sim, r);
   const char* mode = p.motion == WallMotion::Rest ? "rest" : p.motion == WallMotion::Moving ? "moving" : "mirror";
   std::printf("moving wall (%s) theta %.0f R0/dx %d U %g lid %g start %g: mean %.2f deg (%.2f to %.2f), front %.2f "
               "rear %.2f over [%.0f, %.0f] ms (%d samples); drop speed %.4f U, travel %.4f U; %lld particles, %lld "
