@@ -40,7 +40,7 @@ struct Sessile {
   fs::Stepper stepper;
   double R0, dx, Lx, Ly, gamma = 0.05, mu = 0.05, rho = 1000.0, c = 2.0, pb = 100.0;
   int liquid = 0;
-  Sessile(double thetaDeg, double radius, int rOverDx) {
+  Sessile(double thetaDeg, double radius, int rOverDx, const char* keys = nullptr) {
     R0 = radius;
     if (std::getenv("FLUID_MU")) mu = std::atof(std::getenv("FLUID_MU"));
     dx = R0 / rOverDx;
@@ -61,7 +61,7 @@ struct Sessile {
     std::snprintf(buf, sizeof buf, "{density: %g, contact_angle: %g}", rho, thetaDeg);
     const int wall = fs::addMaterial(sim, "wall", "wall", buf);
     const int lid = fs::addMaterial(sim, "lid", "wall", "{density: 1000, contact_angle: 180}");
-    const char* extra = std::getenv("FLUID_EXTRA") ? std::getenv("FLUID_EXTRA") : "";
+    const char* extra = keys ? keys : std::getenv("FLUID_EXTRA") ? std::getenv("FLUID_EXTRA") : "";
     std::snprintf(buf, sizeof buf, "{surface_tension: %g%s}", gamma, extra);
     fluid = fs::addFluidModule(sim, buf);
     const double xc = 0.5 * Lx;
@@ -137,3 +137,55 @@ double runCase(double thetaDeg, double tEnd) {
 TEST(FluidSessile, ContactAngle90) { EXPECT_NEAR(runCase(90.0, 0.06), 90.0, 5.0); }
 TEST(FluidSessile, ContactAngle60) { EXPECT_NEAR(runCase(60.0, 0.06), 60.0, 5.0); }
 TEST(FluidSessile, ContactAngle120) { EXPECT_NEAR(runCase(120.0, 0.06), 120.0, 5.0); }
+
+// The thesis' own wetting model taken literally (issue 14 "The thesis' colour model (1.10) either
+// reaches the angle (fix it) or is documented with its measured failure as a validation row"):
+// `wetting: colour` puts the wall colour cos(theta) into the colour-gradient sum of Eq. 5.7 and
+// nothing else. Same scene, start and time as the tests above (half disc, Oh 0.18, 60 ms). The
+// model does not reach the angle (the wall colour only tilts the normal of the first rows by a
+// fraction of what the prescribed angle needs; docs/fluid.md, "Validation"). Recorded as a
+// validation row with the issue's 5 degrees NOT met; asserted: the reading within 5 degrees of the
+// measured one (a regression bound on the documented failure) and more than 5 degrees from the
+// prescribed angle (if the model is fixed, the row and the docs must change). Measured (R0/dx 10,
+// ~9 s CPU per angle): 69.66 / 107.35 at 60 ms; run on (probe FLUID_COLOUR_TEND=0.18) the
+// 60-degree drop stays at 66-71 to 180 ms and the 120-degree one swings between 103 and 120.
+namespace {
+// Measured with this test (R0/dx 10, 60 ms): see docs/fluid.md.
+constexpr double kColour60 = 69.66, kColour120 = 107.35;
+double runColourModel(double thetaDeg) {
+  test::Stopwatch clock;
+  Sessile s(thetaDeg, 1.5e-3, 10, ", wetting: colour");
+  // Probe hook: FLUID_COLOUR_TEND runs longer and records nothing.
+  const char* probe = std::getenv("FLUID_COLOUR_TEND");
+  const double tEnd = probe ? std::atof(probe) : 0.06;
+  double rc = 0, yc = 0;
+  int np = 0;
+  for (double t = 0.015; t <= tEnd * (1 + 1e-9); t += 0.015) {
+    s.stepper.runTo(s.sim, t);
+    std::printf("literal colour model, prescribed %.0f: t = %.0f ms, %.2f deg\n", thetaDeg, 1e3 * t, s.contactAngle(rc, yc, np));
+  }
+  s.sim.checkFinite();
+  const double th = s.contactAngle(rc, yc, np);
+  const double wall = clock.seconds();
+  std::printf("literal colour model (Eq. 1.10), prescribed %.0f: measured %.2f deg (%d points), %lld steps, %.1f s\n",
+              thetaDeg, th, np, static_cast<long long>(s.sim.step), wall);
+  if (probe) return th;
+  char cs[64];
+  std::snprintf(cs, sizeof cs, "fluid_sessile_droplet_colour_model_%.0f", thetaDeg);
+  test::recordValidation({cs, "contact angle (degrees), circle fit above 2 dx, thesis' colour model taken literally", th,
+                          thetaDeg, std::abs(th - thetaDeg) / thetaDeg,
+                          "R0/dx = 10 (half disc start), quintic h = dx, Oh = 0.18, equal densities, p_b = 100 Pa, "
+                          "t = 60 ms, wetting: colour",
+                          wall, "issue 14: 5 degrees NOT met (documented failure; regression bound 5 degrees about it)",
+                          "prescribed wall angle; wall colour cos(theta) in the sum of Eq. 5.7 (Eq. 1.10 literal)"});
+  return th;
+}
+}  // namespace
+
+TEST(FluidSessile, LiteralColourModelMissesTheAngle) {
+  const double m60 = runColourModel(60.0), m120 = runColourModel(120.0);
+  EXPECT_NEAR(m60, kColour60, 5.0);
+  EXPECT_NEAR(m120, kColour120, 5.0);
+  EXPECT_GT(std::abs(m60 - 60.0), 5.0);  // the documented failure: fixed, the row and docs must change
+  EXPECT_GT(std::abs(m120 - 120.0), 5.0);
+}
