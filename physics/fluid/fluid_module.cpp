@@ -74,6 +74,10 @@ void FluidModule::configure(Simulation& sim, const std::vector<const Material*>&
 
   gravity_.assign(static_cast<size_t>(d), 0.0);
   bodyForces_.clear();
+  // A scene without a `fluid:` section never reaches the keys below; it must get the same
+  // default pressure gradient, Eq. 5.2a (the member initialiser in fluid_module.hpp is
+  // overwritten here).
+  pressureForm_ = PressureForm::Volume;
   if (section) {
     const ParameterSet& s = *section;
     if (s.has("gravity")) gravity_ = s.reals("gravity", static_cast<size_t>(d));
@@ -95,12 +99,13 @@ void FluidModule::configure(Simulation& sim, const std::vector<const Material*>&
       }
     }
     summation_ = s.choice("density", "continuity", {"continuity", "summation"}) == "summation";
-    // Pressure gradient of the fluid-fluid pairs (fluid_pair.hpp FluidPressureForm): Eq. 5.2b
-    // (symmetric), Hu-Adams, or Eq. 5.2a (volume, the energy-consistent partner of the continuity
-    // Eq. 5.1a; docs/fluid.md "Pressure gradient").
+    // Pressure gradient of the fluid-fluid pairs (fluid_pair.hpp FluidPressureForm): Eq. 5.2a
+    // (volume, the default: the energy-consistent partner of the default continuity Eq. 5.1a and
+    // balanced at rest between unequal densities), Eq. 5.2b (symmetric, the default before
+    // 2026-11-27) or Hu-Adams (docs/fluid.md "Eq. 5.2a").
     {
       const std::string form =
-          s.choice("pressure_gradient", "symmetric", {"symmetric", "hu_adams", "volume"});
+          s.choice("pressure_gradient", "volume", {"symmetric", "hu_adams", "volume"});
       pressureForm_ = form == "hu_adams" ? PressureForm::HuAdams
                       : form == "volume" ? PressureForm::Volume
                                          : PressureForm::Symmetric;

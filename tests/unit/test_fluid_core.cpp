@@ -569,7 +569,7 @@ TEST(FluidContinuity, MassFormConservesEnergyPairwiseVolumeFormDoesNot) {
 
 // Eq. 5.2b between fluids of unequal rest density throws the lighter one off its interface within
 // a few steps (docs/drainage.md "A lighter gas in the throat"): the set-up warns, naming the key
-// and the remedy, and only then (ratio > 2 with the symmetric form).
+// and the remedy, and only then (ratio > 2 with the symmetric form; not with the default Eq. 5.2a).
 TEST(FluidConfig, SymmetricPressureGradientBetweenUnequalDensitiesWarns) {
   auto warning = [](const std::string& form, double gasDensity) {
     Simulation sim{2};
@@ -579,7 +579,7 @@ TEST(FluidConfig, SymmetricPressureGradientBetweenUnequalDensitiesWarns) {
     fs::addMaterial(sim, "gas", "fluid",
                     "{density: " + std::to_string(gasDensity) + ", sound_speed: 50, viscosity: 1.0e-5, colour: -1}");
     testing::internal::CaptureStderr();
-    fs::addFluidModule(sim, "{pressure_gradient: " + form + "}");
+    fs::addFluidModule(sim, form.empty() ? "{}" : "{pressure_gradient: " + form + "}");
     return testing::internal::GetCapturedStderr();
   };
   const std::string light = warning("symmetric", 10.0);
@@ -588,6 +588,7 @@ TEST(FluidConfig, SymmetricPressureGradientBetweenUnequalDensitiesWarns) {
   EXPECT_NE(light.find("use pressure_gradient: volume (Eq. 5.2a) or hu_adams"), std::string::npos) << light;
   EXPECT_EQ(warning("hu_adams", 10.0), "");
   EXPECT_EQ(warning("volume", 10.0), "");
+  EXPECT_EQ(warning("", 10.0), "");  // no key: the default, Eq. 5.2a
   EXPECT_EQ(warning("symmetric", 1000.0), "");
   EXPECT_EQ(warning("symmetric", 600.0), "");  // ratio 1.67: below the warning's 2
 }
