@@ -149,3 +149,45 @@ TEST(DamagePlate, CoarseTensionAT2CrackFromTheInclusionTopToBothSides) {
                           r.width, s.support, std::abs(r.width - s.support) / s.support, res, r.wall,
                           "0.5-2 x 2h", "thesis Fig. 4.14c (width ~ 2h)"});
 }
+
+// The energy balance of the laws with an elastic range and a snapping crack (PCW of App. B with
+// b = 1, Yc = Yc0; AT-1, Eq. 4.30a) on the coarse plate in tension (issue 13: "the balance closes
+// to 1 % in every validation"): their release is a second-order time-step error that the snap
+// makes large (docs/damage.md "The PCW balance"): measured 0.49 % (PCW) and 0.57 % (AT-1) at
+// dt = 0.5 x Eq. 2.50, 1.56 % / 1.83 % at 0.9 (which fails this test). Asserted as well: onset on
+// the upper half of the inclusion boundary, a crack through both sides, symmetry within 10 %.
+// ~5 s CPU per law.
+TEST(DamagePlate, CoarseTensionPCWAndAT1EnergyBalanceWithinOnePercent) {
+  for (const char* law : {"pcw, b: 1", "at1"}) {
+    SCOPED_TRACE(law);
+    PlateSetup s;
+    s.dx = 5e-3;
+    s.support = 12.5e-3;
+    s.uMax = 60e-6;
+    s.rampCrossings = 24;
+    s.clampBottom = true;
+    s.hourglass = 0.0;
+    s.damageCommit = "evaluation";
+    s.dtFactor = 0.5;
+    s.law = std::string("{law: ") + law + ", critical_energy_release: 2500}";
+    const PlateResult r = runPlate(s);
+    const double a = 0.05;
+    std::printf("coarse plate, %s: %ld steps, onset u = %.2f um at (%.1f, %.1f) mm, crossing u = %.2f um, "
+                "asymmetry %.4f, released %.3g J/m, balance %.4f, %.1f s\n",
+                law, r.steps, 1e6 * r.uOnset, 1e3 * r.xOnset, 1e3 * r.yOnset, 1e6 * r.uCross, r.asymmetry,
+                r.dissipated, r.balance, r.wall);
+    ASSERT_GT(r.uOnset, 0.0) << "no damage";
+    const double rOnset = std::hypot(r.xOnset, r.yOnset);
+    EXPECT_GT(r.yOnset, 0.0);
+    EXPECT_GE(rOnset, a);
+    EXPECT_LT(rOnset, a + 2 * s.support);
+    EXPECT_GT(r.uCross, r.uOnset) << "the crack did not reach both sides";
+    EXPECT_LT(r.asymmetry, 0.10);
+    EXPECT_LT(r.balance, 0.01) << "energy balance residual / work of the boundaries";
+    const std::string name = std::string("damage_plate_coarse_") + (law[0] == 'p' ? "pcw" : "at1") + "_tension";
+    test::recordValidation({name, "energy balance residual / boundary work", r.balance, 0.0, r.balance,
+                            "60 x 60 points (dx = 5 mm), 2h = 12.5 mm, TL, no hourglass control, damping 600/s, "
+                            "dt 0.5 x Eq. 2.50, damage_commit: evaluation",
+                            r.wall, "< 1 % (issue 13)", "Eqs. 4.25-4.26 with the boundary work"});
+  }
+}
