@@ -26,7 +26,7 @@
 // curvature (5.8) on interface particles only; constitutive = EOS (1.4 / Tait) and wall pressure/velocity
 // extrapolation (extended summation with a hydrostatic wall pressure); forces = continuity
 // (5.1a, or the mass form sum m_b v_ab . grad W with `continuity_form: mass`), pressure gradient
-// (5.2b; 5.2a with `pressure_gradient: volume`; Hu-Adams), harmonic-mean viscosity (5.4), body forces, CSF surface
+// (5.2a, the default `pressure_gradient: volume`; 5.2b `symmetric`; Hu-Adams), harmonic-mean viscosity (5.4), body forces, CSF surface
 // tension (1.9), all in gather form.
 #include <algorithm>
 #include <cmath>
@@ -200,7 +200,7 @@ class FluidModule : public Module {
   std::vector<double> gravity_;
   std::vector<BodyForce> bodyForces_;
   bool summation_ = false;
-  PressureForm pressureForm_ = PressureForm::Symmetric;
+  PressureForm pressureForm_ = PressureForm::Volume;  // Eq. 5.2a, the default (b84d7bb)
   bool harmonicMean_ = true;
   ContinuityForm continuityForm_ = ContinuityForm::Volume;  // continuity_form (Eq. 5.1a / mass)
   bool acousticInterface_ = false;  // continuity_interface: acoustic (interfaceContinuityWeight)

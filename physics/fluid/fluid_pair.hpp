@@ -35,12 +35,12 @@ struct FluidPairParticleT {
 using FluidPairParticle = FluidPairParticleT<double>;
 
 /// The pressure gradient of the fluid-fluid pairs (fluid key `pressure_gradient`):
-///  - Symmetric (`symmetric`, the default): Eq. 5.2b, a_a = -sum_b m_b (p_a/rho_a^2 + p_b/rho_b^2)
+///  - Symmetric (`symmetric`): Eq. 5.2b, a_a = -sum_b m_b (p_a/rho_a^2 + p_b/rho_b^2)
 ///    grad W_ab. With `continuity_form: mass` energy-consistent; with Eq. 5.1a it leaves the power
 ///    1/2 sum m_a m_b (v_ab . grad W)(1/rho_b - 1/rho_a)(p_a/rho_a - p_b/rho_b).
 ///  - HuAdams (`hu_adams`): Hu & Adams (2006), a_a = -(1/m_a) sum_b (V_a^2 + V_b^2) p~_ab grad W_ab,
 ///    p~_ab = (rho_b p_a + rho_a p_b)/(rho_a + rho_b).
-///  - Volume (`volume`): the thesis' Eq. 5.2a, grad p_a = sum_b V_b (p_a + p_b) grad W_ab, i.e.
+///  - Volume (`volume`, the default since b84d7bb): the thesis' Eq. 5.2a, grad p_a = sum_b V_b (p_a + p_b) grad W_ab, i.e.
 ///    a_a = -sum_b m_b (p_a + p_b)/(rho_a rho_b) grad W_ab (pair force -m_a m_b (p_a + p_b)/
 ///    (rho_a rho_b) grad W, antisymmetric). With the continuity Eq. 5.1a (drho_a/dt = rho_a sum_b
 ///    V_b v_ab . grad W) the rate of the compression energy sum m_a e(rho_a), de/drho = p/rho^2,
