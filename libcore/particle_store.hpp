@@ -27,6 +27,12 @@ enum FieldFlag : unsigned {
   /// (e.g. the solid's reference families): the run loop's rollback copy (RollbackState,
   /// libcore/health.hpp) does not copy it but restores the particle order instead.
   kFieldConstant = 1u << 3,
+  /// The rollback copy (RollbackState, libcore/health.hpp) may hold it in single precision (as
+  /// a float offset from the middle of its range): a state rolled back to then has this field
+  /// rounded to ~6e-8 of that range (velocity, density, acceleration, pressure; position only
+  /// while the store holds no solid or rigid particle, whose positions define strain and body
+  /// shape; never the solid's reference and deformation fields).
+  kFieldRollbackSingle = 1u << 4,
   kFieldDefault = kFieldOutput | kFieldCheckpoint | kFieldToGhosts,
 };
 
