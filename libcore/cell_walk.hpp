@@ -72,8 +72,8 @@ class CellWalk {
   /// Particles in the whole block of cells of `sp`: room for every candidate of its row.
   Index candidateBound(const Span& sp) const {
     const int dimsX = g_.dims[0], dimsY = g_.dims[1];
-    const Index first = g_.cellStart[(static_cast<Index>(sp.zlo) * dimsY + sp.ylo) * dimsX];
-    const Index last = g_.cellStart[(static_cast<Index>(sp.zhi) * dimsY + sp.yhi) * dimsX + dimsX];
+    const Index first = static_cast<Index>(g_.cellStart[(static_cast<Index>(sp.zlo) * dimsY + sp.ylo) * dimsX]);
+    const Index last = static_cast<Index>(g_.cellStart[(static_cast<Index>(sp.zhi) * dimsY + sp.yhi) * dimsX + dimsX]);
     return last - first;
   }
   /// visit(j, r2) for every candidate j of particle i in slot order: the rows of cells of `sp`
@@ -83,8 +83,8 @@ class CellWalk {
   void candidates(Index i, const Span& sp, V&& visit) const {
     const double* xi = x_ + i * D;
     const double* xs = g_.xs;
-    const Index* sorted = g_.sorted;
-    const Index* cellStart = g_.cellStart;
+    const NeighbourSearch::CellIndex* sorted = g_.sorted;
+    const NeighbourSearch::CellIndex* cellStart = g_.cellStart;
     const double r2max = r2max_;
     const int dimsX = g_.dims[0], dimsY = g_.dims[1];
     const double ox = g_.origin[0], invCell = g_.invCell, margin = g_.margin;
@@ -101,15 +101,15 @@ class CellWalk {
         const int xhi = fhi >= dimsX - 1 ? dimsX - 1 : static_cast<int>(fhi);
         // Cells xlo..xhi of a row are contiguous in the sorted order: one range per row.
         const Index rowBase = (static_cast<Index>(cz) * dimsY + cy) * dimsX;
-        const Index jb = cellStart[rowBase + xlo];
-        const Index je = cellStart[rowBase + xhi + 1];
+        const Index jb = static_cast<Index>(cellStart[rowBase + xlo]);
+        const Index je = static_cast<Index>(cellStart[rowBase + xhi + 1]);
         for (Index s = jb; s < je; ++s) {
           double r2 = 0.0;
           for (int a = 0; a < D; ++a) {
             const double dx = xi[a] - xs[s * D + a];
             r2 += dx * dx;
           }
-          visit(sorted[s], r2);
+          visit(static_cast<Index>(sorted[s]), r2);
         }
       }
     }
@@ -171,11 +171,11 @@ inline void cellWalkBlocks(const NeighbourSearch::Grid& g, int dim, double radiu
   s.weight.assign(static_cast<size_t>(nc), 0);
   s.reach.assign(static_cast<size_t>(nc), -1);
   for (Index c = 0; c < nc; ++c) {
-    const Index b = g.cellStart[c], e = g.cellStart[c + 1];
+    const Index b = static_cast<Index>(g.cellStart[c]), e = static_cast<Index>(g.cellStart[c + 1]);
     s.weight[static_cast<size_t>(c)] = e - b;
     Index m = -1;
     for (Index q = b; q < e; ++q)
-      if (g.sorted[q] < nReal) m = std::max(m, g.sorted[q]);
+      if (static_cast<Index>(g.sorted[q]) < nReal) m = std::max(m, static_cast<Index>(g.sorted[q]));
     s.reach[static_cast<size_t>(c)] = m;
   }
   // A particle of cell k reaches the cells k - K .. k + K along each axis (K cells cover the

@@ -27,13 +27,73 @@ bool Region::contains(const double* x, int dim, double tol) const {
         return false;
     return true;
   }
-  double r2 = 0.0;
+  double r2 = 0.0, s = 0.0;
   for (int a = 0; a < dim; ++a) {
     const double d = x[a] - centre[static_cast<size_t>(a)];
     r2 += d * d;
+    s += d * axis[static_cast<size_t>(a)];
   }
   const double r = radius + tol;
-  return r2 <= r * r;
+  if (shape == Shape::Sphere) return r2 <= r * r;
+  // Cylinder: within half its length along the axis, within its radius of the axis.
+  if (std::fabs(s) > 0.5 * length + tol) return false;
+  return r2 - s * s <= r * r;
+}
+
+bool Region::rowSpan(const double* x, int dim, double tol, double& x0, double& x1) const {
+  if (shape == Shape::Box || shape == Shape::Image) {
+    x0 = lo[0] - tol;
+    x1 = hi[0] + tol;
+    return true;
+  }
+  if (shape == Shape::Sphere) {
+    double d2 = 0.0;
+    for (int a = 1; a < dim; ++a) {
+      const double d = x[a] - centre[static_cast<size_t>(a)];
+      d2 += d * d;
+    }
+    const double R = radius + tol;
+    const double rem = R * R - d2;
+    if (rem < 0.0) return false;
+    const double half = std::sqrt(rem);
+    x0 = centre[0] - half;
+    x1 = centre[0] + half;
+    return true;
+  }
+  // Cylinder: on the line p(t) = (t, x1, x2), d(t) = d0 + t e_x with d0 = p(0) - centre; the
+  // axial coordinate s(t) = d0.a + t a_x must stay within +-(L/2 + tol) (an interval of t, or
+  // all or no t when a_x = 0), the squared distance from the axis
+  // |d(t)|^2 - s(t)^2 = A t^2 + B t + C within (R + tol)^2 (A = 1 - a_x^2 >= 0).
+  double d0[3] = {-centre[0], 0.0, 0.0};
+  for (int a = 1; a < dim; ++a) d0[a] = x[a] - centre[static_cast<size_t>(a)];
+  double s0 = 0.0, dd = 0.0;
+  for (int a = 0; a < dim; ++a) {
+    s0 += d0[a] * axis[static_cast<size_t>(a)];
+    dd += d0[a] * d0[a];
+  }
+  const double ax = axis[0], halfL = 0.5 * length + tol, R = radius + tol;
+  double lo0 = -std::numeric_limits<double>::infinity(), hi0 = std::numeric_limits<double>::infinity();
+  if (ax != 0.0) {
+    const double ta = (-halfL - s0) / ax, tb = (halfL - s0) / ax;
+    lo0 = std::min(ta, tb);
+    hi0 = std::max(ta, tb);
+  } else if (std::fabs(s0) > halfL) {
+    return false;
+  }
+  const double A = 1.0 - ax * ax, B = 2.0 * (d0[0] - s0 * ax), C = dd - s0 * s0 - R * R;
+  if (A > 1e-12) {
+    const double disc = B * B - 4.0 * A * C;
+    if (disc < 0.0) return false;
+    const double root = std::sqrt(disc);
+    lo0 = std::max(lo0, (-B - root) / (2.0 * A));
+    hi0 = std::min(hi0, (-B + root) / (2.0 * A));
+  } else if (C > 0.0) {  // axis along x: the line is parallel to it, inside or outside
+    return false;
+  }
+  if (!(lo0 <= hi0)) return false;
+  x0 = lo0;
+  x1 = hi0;
+  return true;
 }
 
 void Region::bounds(int dim, std::array<double, 3>& blo, std::array<double, 3>& bhi) const {
@@ -43,6 +103,13 @@ void Region::bounds(int dim, std::array<double, 3>& blo, std::array<double, 3>& 
     } else if (shape == Shape::Box || shape == Shape::Image) {
       blo[a] = lo[a];
       bhi[a] = hi[a];
+    } else if (shape == Shape::Cylinder) {
+      // Extent of a cylinder along e_a: L/2 |a_a| from the axis, R sqrt(1 - a_a^2) from the
+      // radius (the largest component of a unit vector normal to the axis along e_a).
+      const double c = std::min(1.0, std::fabs(axis[a]));
+      const double e = 0.5 * length * c + radius * std::sqrt(1.0 - c * c);
+      blo[a] = centre[a] - e;
+      bhi[a] = centre[a] + e;
     } else {
       blo[a] = centre[a] - radius;
       bhi[a] = centre[a] + radius;
@@ -251,19 +318,13 @@ void rowRuns(const std::vector<Region>& regions, const std::vector<RegionRange>&
       continue;
     }
     long long a = rr.r0[0], b = rr.r1[0];
-    if (r.shape == Region::Shape::Sphere) {
-      double d2 = 0.0;
-      for (int ax = 1; ax < dim; ++ax) {
-        const double d = x[ax] - r.centre[static_cast<size_t>(ax)];
-        d2 += d * d;
-      }
-      const double R = r.radius + lat.tol;
-      const double rem = R * R - d2;
-      if (rem < 0.0) continue;
-      const double half = std::sqrt(rem);
+    if (r.shape != Region::Shape::Box) {
+      // The region's exact interval on this row, clipped to its bounding range.
+      double t0 = 0.0, t1 = 0.0;
+      if (!r.rowSpan(x, dim, lat.tol, t0, t1)) continue;
       const double l = lat.origin[0];
-      const double fa = std::ceil((r.centre[0] - half - l) / lat.dx - 0.5);
-      const double fb = std::floor((r.centre[0] + half - l) / lat.dx - 0.5);
+      const double fa = std::ceil((t0 - l) / lat.dx - 0.5);
+      const double fb = std::floor((t1 - l) / lat.dx - 0.5);
       const double lo = static_cast<double>(a), hi = static_cast<double>(b);
       a = std::max(a, static_cast<long long>(std::min(std::max(fa, lo), hi + 1.0)));
       b = std::min(b, static_cast<long long>(std::max(std::min(fb, hi), lo - 1.0)));

@@ -1,6 +1,6 @@
 #pragma once
-// Geometry builders: regions of a scene (boxes, spheres / discs / segments) filled with a
-// Cartesian lattice of spacing dx.
+// Geometry builders: regions of a scene (boxes, spheres / discs / segments, cylinders) filled
+// with a Cartesian lattice of spacing dx.
 //
 // One global lattice serves every region: its sites are lo + (i + 1/2) dx along each axis (lo =
 // the domain's lower corner, i any integer), so that a box [lo, hi] whose faces lie on multiples
@@ -38,12 +38,16 @@ struct ImageGrid {
 };
 
 struct Region {
-  enum class Shape { Box, Sphere, Image };
+  enum class Shape { Box, Sphere, Cylinder, Image };
   Shape shape = Shape::Box;
   std::array<double, 3> lo{0.0, 0.0, 0.0};      ///< box: lower corner
   std::array<double, 3> hi{0.0, 0.0, 0.0};      ///< box: upper corner
-  std::array<double, 3> centre{0.0, 0.0, 0.0};  ///< sphere: centre
-  double radius = 0.0;                          ///< sphere: radius (disc in 2D, segment in 1D)
+  std::array<double, 3> centre{0.0, 0.0, 0.0};  ///< sphere, cylinder: centre
+  double radius = 0.0;                          ///< sphere: radius (disc in 2D, segment in 1D);
+                                                ///< cylinder: radius about its axis
+  std::array<double, 3> axis{0.0, 0.0, 1.0};    ///< cylinder: unit axis (in the plane in 2D,
+                                                ///< where the cylinder is a tilted rectangle)
+  double length = 0.0;                          ///< cylinder: length along the axis
   int material = -1;                            ///< material id; -1 subtracts
   std::int32_t motion = 0;                      ///< Motion (libcore/simulation.hpp)
   std::array<double, 3> velocity{0.0, 0.0, 0.0};///< initial (or imposed) velocity, m/s
@@ -58,6 +62,10 @@ struct Region {
   bool contains(const double* x, int dim, double tol) const;
   /// Axis-aligned bounding box.
   void bounds(int dim, std::array<double, 3>& blo, std::array<double, 3>& bhi) const;
+  /// The interval [x0, x1] along x that a convex region (box, sphere, cylinder) covers on the
+  /// line through x (its components 1 .. dim-1; x[0] is ignored), grown by tol; false when the
+  /// line misses it. The lattice fill refines the ends with contains().
+  bool rowSpan(const double* x, int dim, double tol, double& x0, double& x1) const;
 };
 
 /// Lattice sites that hold a particle, with the region that owns each (the last region that

@@ -7,6 +7,7 @@
 #include <unordered_map>
 
 #include "libcore/parameters.hpp"
+#include "libcore/phases.hpp"
 #include "libcore/simulation.hpp"
 
 namespace poresph {
@@ -164,19 +165,117 @@ bool RollbackState::copies(unsigned flags) {
   return (flags & (kFieldCheckpoint | kFieldOutput)) != 0 && (flags & kFieldConstant) == 0;
 }
 
+namespace {
+
+using Storage = RollbackState::Storage;
+
+std::uint64_t bitsOf(double v) {
+  std::uint64_t b;
+  std::memcpy(&b, &v, sizeof b);
+  return b;
+}
+double doubleOf(std::uint64_t b) {
+  double v;
+  std::memcpy(&v, &b, sizeof v);
+  return v;
+}
+std::uint64_t bitsOf(std::int32_t v) { return static_cast<std::uint32_t>(v); }
+
+// The distinct bit patterns of values [0, count), in order of first appearance, when there are
+// at most RollbackState::kPaletteSize of them (palette.size() > kPaletteSize otherwise: the scan
+// stops at the first value beyond). `code` (optional) receives each value's index.
+template <class T>
+void paletteOf(const T* v, std::size_t count, std::vector<std::uint64_t>& palette,
+               std::uint8_t* code) {
+  palette.clear();
+  std::uint64_t pal[RollbackState::kPaletteSize];
+  int k = 0, last = 0;
+  for (std::size_t q = 0; q < count; ++q) {
+    const std::uint64_t b = bitsOf(v[q]);
+    if (k == 0 || pal[last] != b) {
+      int m = 0;
+      while (m < k && pal[m] != b) ++m;
+      if (m == k) {
+        if (k == RollbackState::kPaletteSize) {
+          palette.assign(pal, pal + k);
+          palette.push_back(b);  // too many: the caller copies the field plainly
+          return;
+        }
+        pal[k++] = b;
+      }
+      last = m;
+    }
+    if (code) code[q] = static_cast<std::uint8_t>(last);
+  }
+  palette.assign(pal, pal + k);
+}
+
+// Whether field f may be copied in single precision: flagged so, and for the positions, no
+// solid or rigid particle in the store (their positions define strain and body shape).
+bool singleAllowed(const ParticleStore& st, int f, bool everyField) {
+  const FieldSpec& spec = st.fields()[static_cast<size_t>(f)];
+  if (everyField || spec.type != FieldType::Real || (spec.flags & kFieldRollbackSingle) == 0)
+    return false;
+  if (f != st.position().id) return true;
+  const std::int32_t* phase = st.data(st.phase());
+  for (Index i = 0; i < st.realCount(); ++i)
+    if (phase[i] == kPhaseSolid || phase[i] == kPhaseRigid) return false;
+  return true;
+}
+
+}  // namespace
+
+RollbackState::Storage RollbackState::storageOf(const ParticleStore& st, int f, bool everyField) {
+  const FieldSpec& spec = st.fields()[static_cast<size_t>(f)];
+  if (!everyField && !copies(spec.flags)) return Storage::None;
+  const bool real = spec.type == FieldType::Real;
+  if (singleAllowed(st, f, everyField)) return Storage::Single;
+  const std::size_t count =
+      static_cast<std::size_t>(st.realCount()) * static_cast<std::size_t>(spec.components);
+  std::vector<std::uint64_t> palette;
+  if (real) paletteOf(st.data(RealField{f}), count, palette, nullptr);
+  else paletteOf(st.data(IntField{f}), count, palette, nullptr);
+  if (count > 0 && static_cast<int>(palette.size()) <= kPaletteSize) return Storage::Palette;
+  return real ? Storage::Double : Storage::Int;
+}
+
 std::size_t RollbackState::bytesPerParticle(const ParticleStore& st) {
   std::size_t b = 0;
-  for (const auto& s : st.fields())
-    if (copies(s.flags))
-      b += static_cast<std::size_t>(s.components) *
-           (s.type == FieldType::Real ? sizeof(double) : sizeof(std::int32_t));
+  for (size_t f = 0; f < st.fields().size(); ++f) {
+    const std::size_t c = static_cast<std::size_t>(st.fields()[f].components);
+    switch (storageOf(st, static_cast<int>(f))) {
+      case Storage::Double: b += c * sizeof(double); break;
+      case Storage::Single: b += c * sizeof(float); break;
+      case Storage::Int: b += c * sizeof(std::int32_t); break;
+      case Storage::Palette: b += c; break;
+      case Storage::None: break;
+    }
+  }
   return b;
+}
+
+void RollbackState::Column::releaseAllBut(Storage keep) {
+  if (keep != Storage::Double) std::vector<double>().swap(real);
+  if (keep != Storage::Single) {
+    std::vector<float>().swap(single);
+    std::vector<double>().swap(offset);
+  }
+  if (keep != Storage::Int) std::vector<std::int32_t>().swap(ints);
+  if (keep != Storage::Palette) {
+    std::vector<std::uint8_t>().swap(code);
+    std::vector<std::uint64_t>().swap(palette);
+  }
+}
+
+std::size_t RollbackState::Column::bytes() const {
+  return (real.capacity() + offset.capacity()) * sizeof(double) + single.capacity() * sizeof(float) +
+         ints.capacity() * sizeof(std::int32_t) + code.capacity() +
+         palette.capacity() * sizeof(std::uint64_t);
 }
 
 std::size_t RollbackState::bytes() const {
   std::size_t b = 0;
-  for (const auto& v : real_) b += v.capacity() * sizeof(double);
-  for (const auto& v : int_) b += v.capacity() * sizeof(std::int32_t);
+  for (const Column& c : columns_) b += c.bytes();
   return b;
 }
 
@@ -184,25 +283,67 @@ bool RollbackState::capture(const Simulation& sim) {
   if (valid_ && sim.step != step_ && (sim.step - step_) % every_ != 0) return false;
   const ParticleStore& st = sim.store;
   const auto& specs = st.fields();
-  if (real_.size() != specs.size()) {
-    real_.resize(specs.size());
-    int_.resize(specs.size());
-  }
+  if (columns_.size() != specs.size()) columns_.resize(specs.size());
   n_ = st.realCount();
   for (size_t f = 0; f < specs.size(); ++f) {
-    if (!everyField_ && !copies(specs[f].flags)) {
-      // A field registered since the last capture may need no copy: keep no stale buffer.
-      real_[f].clear();
-      int_[f].clear();
-      continue;
-    }
+    Column& col = columns_[f];
+    const bool real = specs[f].type == FieldType::Real;
     const size_t count = static_cast<size_t>(n_) * static_cast<size_t>(specs[f].components);
-    if (specs[f].type == FieldType::Real) {
+    Storage want = Storage::None;
+    if (everyField_ || copies(specs[f].flags))
+      want = singleAllowed(st, static_cast<int>(f), everyField_)
+                 ? Storage::Single
+                 : Storage::Palette;  // tried first; falls back to Double / Int below
+    if (want == Storage::Palette) {
+      // Lossless: a byte per value when the field holds at most kPaletteSize distinct values.
+      // The first pass only counts (it stops at the 17th distinct value: a few values for a
+      // field of many), the second writes the codes.
+      const RealField rf{static_cast<int>(f)};
+      const IntField inf{static_cast<int>(f)};
+      if (real) paletteOf(st.data(rf), count, col.palette, nullptr);
+      else paletteOf(st.data(inf), count, col.palette, nullptr);
+      if (count == 0 || static_cast<int>(col.palette.size()) > kPaletteSize) {
+        want = real ? Storage::Double : Storage::Int;
+      } else {
+        col.code.resize(count);
+        if (real) paletteOf(st.data(rf), count, col.palette, col.code.data());
+        else paletteOf(st.data(inf), count, col.palette, col.code.data());
+      }
+    }
+    // A field registered since the last capture may need no copy, and a field that changed its
+    // storage keeps no stale buffer.
+    col.releaseAllBut(want);
+    col.storage = want;
+    if (want == Storage::Double) {
       const double* p = st.data(RealField{static_cast<int>(f)});
-      real_[f].assign(p, p + count);
-    } else {
+      col.real.assign(p, p + count);
+    } else if (want == Storage::Int) {
       const std::int32_t* p = st.data(IntField{static_cast<int>(f)});
-      int_[f].assign(p, p + count);
+      col.ints.assign(p, p + count);
+    } else if (want == Storage::Single) {
+      // Per component: the float of the value minus the middle of its range when the range
+      // excludes 0 (positions in a box, density around rho0: the rounding is then 2^-24 of the
+      // half range, not of the value), else of the value itself.
+      const double* p = st.data(RealField{static_cast<int>(f)});
+      const int nc = specs[f].components;
+      col.offset.assign(static_cast<size_t>(nc), 0.0);
+      for (int a = 0; a < nc && n_ > 0; ++a) {
+        double lo = p[a], hi = p[a];
+        for (size_t k = static_cast<size_t>(a); k < count; k += static_cast<size_t>(nc)) {
+          lo = std::min(lo, p[k]);
+          hi = std::max(hi, p[k]);
+        }
+        if ((lo > 0.0 || hi < 0.0) && std::isfinite(lo) && std::isfinite(hi))
+          col.offset[static_cast<size_t>(a)] = 0.5 * (lo + hi);
+      }
+      col.single.resize(count);
+      float* q = col.single.data();
+      const double* off = col.offset.data();
+      for (size_t i = 0; i < static_cast<size_t>(n_); ++i)
+        for (int a = 0; a < nc; ++a) {
+          const size_t k = i * static_cast<size_t>(nc) + static_cast<size_t>(a);
+          q[k] = static_cast<float>(p[k] - off[a]);
+        }
     }
   }
   time_ = sim.time;
@@ -223,7 +364,18 @@ bool RollbackState::restore(Simulation& sim) const {
   // Fields that are not copied (constant ones, scratch) follow their particles: put the store
   // back into the captured particle order first (a cell reorder may have happened since), by
   // the ids of the copy. Allocates, but only once, on the way out of a failed run.
-  const std::vector<std::int32_t>& capturedIds = int_[static_cast<size_t>(st.id().id)];
+  const size_t idField = static_cast<size_t>(st.id().id);
+  std::vector<std::int32_t> capturedIds;
+  if (idField < columns_.size()) {
+    const Column& c = columns_[idField];
+    if (c.storage == Storage::Int) {
+      capturedIds = c.ints;
+    } else if (c.storage == Storage::Palette) {
+      capturedIds.resize(c.code.size());
+      for (size_t k = 0; k < c.code.size(); ++k)
+        capturedIds[k] = static_cast<std::int32_t>(static_cast<std::uint32_t>(c.palette[c.code[k]]));
+    }
+  }
   if (capturedIds.size() == static_cast<size_t>(n_)) {
     const std::int32_t* ids = st.data(st.id());
     bool same = true;
@@ -241,16 +393,45 @@ bool RollbackState::restore(Simulation& sim) const {
       st.permute(newToOld);
     }
   }
-  for (size_t f = 0; f < specs.size() && f < real_.size(); ++f) {
-    if (!everyField_ && !copies(specs[f].flags)) continue;
+  for (size_t f = 0; f < specs.size() && f < columns_.size(); ++f) {
+    const Column& col = columns_[f];
     const size_t count = static_cast<size_t>(n_) * static_cast<size_t>(specs[f].components);
-    if (specs[f].type == FieldType::Real) {
-      if (real_[f].size() == count)
-        std::memcpy(st.data(RealField{static_cast<int>(f)}), real_[f].data(),
-                    count * sizeof(double));
-    } else if (int_[f].size() == count) {
-      std::memcpy(st.data(IntField{static_cast<int>(f)}), int_[f].data(),
-                  count * sizeof(std::int32_t));
+    const bool real = specs[f].type == FieldType::Real;
+    switch (col.storage) {
+      case Storage::None:
+        break;
+      case Storage::Double:
+        if (real && col.real.size() == count)
+          std::memcpy(st.data(RealField{static_cast<int>(f)}), col.real.data(),
+                      count * sizeof(double));
+        break;
+      case Storage::Int:
+        if (!real && col.ints.size() == count)
+          std::memcpy(st.data(IntField{static_cast<int>(f)}), col.ints.data(),
+                      count * sizeof(std::int32_t));
+        break;
+      case Storage::Single:
+        if (real && col.single.size() == count) {
+          double* p = st.data(RealField{static_cast<int>(f)});
+          const int nc = specs[f].components;
+          for (size_t i = 0; i < static_cast<size_t>(n_); ++i)
+            for (int a = 0; a < nc; ++a) {
+              const size_t k = i * static_cast<size_t>(nc) + static_cast<size_t>(a);
+              p[k] = col.offset[static_cast<size_t>(a)] + static_cast<double>(col.single[k]);
+            }
+        }
+        break;
+      case Storage::Palette:
+        if (col.code.size() != count) break;
+        if (real) {
+          double* p = st.data(RealField{static_cast<int>(f)});
+          for (size_t k = 0; k < count; ++k) p[k] = doubleOf(col.palette[col.code[k]]);
+        } else {
+          std::int32_t* p = st.data(IntField{static_cast<int>(f)});
+          for (size_t k = 0; k < count; ++k)
+            p[k] = static_cast<std::int32_t>(static_cast<std::uint32_t>(col.palette[col.code[k]]));
+        }
+        break;
     }
   }
   sim.time = time_;

@@ -23,6 +23,7 @@
 // `keep_going: true` (or `poresph run --keep-going`) turns the stops into warnings, printed once
 // per check.
 #include <array>
+#include <cstdint>
 #include <limits>
 #include <string>
 #include <utility>
@@ -112,9 +113,21 @@ class HealthMonitor {
 /// the integrator's copies and the neighbour data are not copied: after a rollback the run only
 /// writes the checkpoint and the snapshot and stops. Buffers are reused (no allocation in the
 /// time loop once the particle count is steady). docs/particle-store.md has the measured costs.
+///
+/// Mixed precision (docs/performance.md "Memory levers"): a field flagged kFieldRollbackSingle
+/// (velocity, density, acceleration, the fluid's pressure, and the positions while the store
+/// holds no solid or rigid particle) is copied in single precision, as a float offset from the
+/// middle of each component's range when the range excludes 0 (positions: the box of the
+/// particles; density: around rho0), else as a float; a restore puts back the value rounded to
+/// 2^-24 of that span (a restored run then follows the uninterrupted one within the tolerance
+/// tests/unit/test_health_rollback.cpp measures). Every other field (mass, the solid's fields,
+/// the positions of a store with solid or rigid particles) is copied exactly: as doubles, or,
+/// when its values are at most kPaletteSize distinct bit patterns at the capture (mass, phase,
+/// material, motion of most scenes), as one byte per value indexing those values (lossless).
 class RollbackState {
  public:
-  /// `everyField`: copy every field (the run loop's copy before this class; kept to measure it).
+  /// `everyField`: copy every field (the run loop's copy before this class; kept to measure it),
+  /// all exactly (no single precision).
   explicit RollbackState(Index every = 1, bool everyField = false)
       : every_(every < 1 ? 1 : every), everyField_(everyField) {}
   /// Copies the state when due: the first call, then every `every` steps (by sim.step). Returns
@@ -127,16 +140,33 @@ class RollbackState {
   Index capturedStep() const { return step_; }
   /// Whether field `spec` is copied (checkpoint or output flag).
   static bool copies(unsigned flags);
-  /// Bytes per real particle of one copy in this store.
+  /// Bytes per real particle of one copy of this store's current values (a palette field counts
+  /// one byte per component; its few values are not counted).
   static std::size_t bytesPerParticle(const ParticleStore& store);
   /// Bytes held now (capacity of the buffers).
   std::size_t bytes() const;
 
+  static constexpr int kPaletteSize = 16;
+  /// How a field is held in the copy.
+  enum class Storage : std::uint8_t { None, Double, Single, Int, Palette };
+  /// The storage a capture of field `f` of `store` picks now.
+  static Storage storageOf(const ParticleStore& store, int f, bool everyField = false);
+
  private:
+  struct Column {
+    Storage storage = Storage::None;
+    std::vector<double> real;        // Double
+    std::vector<float> single;       // Single: value - offset[component]
+    std::vector<double> offset;      // Single: per component
+    std::vector<std::int32_t> ints;  // Int
+    std::vector<std::uint8_t> code;  // Palette: index into `palette` per value
+    std::vector<std::uint64_t> palette;  // Palette: the values' bit patterns (double or int32)
+    void releaseAllBut(Storage keep);
+    std::size_t bytes() const;
+  };
   Index every_;
   bool everyField_;
-  std::vector<std::vector<double>> real_;
-  std::vector<std::vector<std::int32_t>> int_;
+  std::vector<Column> columns_;
   // Module::saveState() of each module (ModuleState, spelled out: module.hpp includes this file)
   std::vector<std::vector<std::pair<std::string, std::vector<double>>>> modules_;
   Index n_ = 0;

@@ -128,7 +128,8 @@ MemoryReport memoryReport(const Simulation& sim, std::uint64_t particles,
                          "estimate: support / periodic length, every field"});
   }
   r.lines.push_back({"rollback copy", static_cast<double>(RollbackState::bytesPerParticle(st)),
-                     0.0, "checkpoint and output fields (health: rollback_every)"});
+                     0.0, "checkpoint and output fields; velocity, density, acceleration, pressure in "
+                     "single precision, few-valued fields as bytes (health: rollback_every)"});
   const std::string listKind = sim.halfNeighbourList ? " (half: each pair once)" : "";
   if (sim.cellWalk) {
     // neighbour_list: cells: no list; the search holds the cells and the sorted positions
@@ -141,7 +142,7 @@ MemoryReport memoryReport(const Simulation& sim, std::uint64_t particles,
                          static_cast<double>(sim.search.bytes()) / static_cast<double>(nReal), 0.0,
                          "measured: cells, sorted positions"});
     else
-      r.lines.push_back({"neighbour search", 16.0 + 8.0 * d, 0.0, "estimate"});
+      r.lines.push_back({"neighbour search", 8.0 + 8.0 * d, 0.0, "estimate"});  // 32-bit cells
   } else if (sim.neighbours.realCount() > 0) {
     const double n = static_cast<double>(sim.neighbours.realCount());
     r.lines.push_back({"neighbour list", static_cast<double>(sim.neighbours.bytes()) / n, 0.0,

@@ -77,6 +77,9 @@ void NeighbourSearch::sortIntoCells(const double* x, Index n, double cellSize) {
     dims_[a] = static_cast<int>(std::floor((hi[a] - lo[a]) * invCell_)) + 1;
     nCells_ *= dims_[a];
   }
+  if (static_cast<double>(nCells_) >= static_cast<double>(std::numeric_limits<CellIndex>::max()))
+    throw std::logic_error("neighbour search: " + std::to_string(nCells_) +
+                           " cells exceed the 32-bit cell index");
   cellOf_.resize(static_cast<size_t>(n));
 #pragma omp parallel for schedule(static)
   for (Index i = 0; i < n; ++i) {
@@ -86,18 +89,21 @@ void NeighbourSearch::sortIntoCells(const double* x, Index n, double cellSize) {
       k = std::min(std::max(k, 0), dims_[a] - 1);
       c = c * dims_[a] + k;
     }
-    cellOf_[static_cast<size_t>(i)] = c;
+    cellOf_[static_cast<size_t>(i)] = static_cast<CellIndex>(c);
   }
-  // Counting sort (stable: particles keep their order within a cell).
+  // Counting sort (stable: particles keep their order within a cell). cellStart_[c] serves as
+  // the cursor of cell c while filling (it then holds the end of c, the start of c + 1) and is
+  // shifted back afterwards: no separate cursor array.
   cellStart_.assign(static_cast<size_t>(nCells_) + 1, 0);
   for (Index i = 0; i < n; ++i) ++cellStart_[static_cast<size_t>(cellOf_[static_cast<size_t>(i)]) + 1];
   for (Index c = 0; c < nCells_; ++c) cellStart_[static_cast<size_t>(c) + 1] += cellStart_[static_cast<size_t>(c)];
   sorted_.resize(static_cast<size_t>(n));
-  cursor_.assign(cellStart_.begin(), cellStart_.end() - 1);
   for (Index i = 0; i < n; ++i) {
-    const Index c = cellOf_[static_cast<size_t>(i)];
-    sorted_[static_cast<size_t>(cursor_[static_cast<size_t>(c)]++)] = i;
+    const CellIndex c = cellOf_[static_cast<size_t>(i)];
+    sorted_[static_cast<size_t>(cellStart_[c]++)] = static_cast<CellIndex>(i);
   }
+  for (Index c = nCells_; c > 0; --c) cellStart_[static_cast<size_t>(c)] = cellStart_[static_cast<size_t>(c) - 1];
+  cellStart_[0] = 0;
 }
 
 template <int D>
@@ -414,8 +420,8 @@ void VerletNeighbours::filter(const double* x, int dim, double radius, Neighbour
 }
 
 std::size_t NeighbourSearch::bytes() const {
-  std::size_t b = (cellOf_.capacity() + cellStart_.capacity() + sorted_.capacity() +
-                   cursor_.capacity()) * sizeof(Index) +
+  std::size_t b = (cellOf_.capacity() + cellStart_.capacity() + sorted_.capacity()) *
+                      sizeof(CellIndex) +
                   xs_.capacity() * sizeof(double) +
                   (chunkBegin_.capacity() + regionBegin_.capacity() + regionUsed_.capacity() +
                    prevChunk_.capacity()) * sizeof(std::int64_t);

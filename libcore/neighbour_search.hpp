@@ -34,6 +34,10 @@ struct NeighbourList {
 
 class NeighbourSearch {
  public:
+  /// Cells, slots and particles of the cell arrays: 32 bits (a store holds < 2^32 particles and
+  /// the cells are capped at ~2 per particle, checked), half the memory of Index; the values
+  /// are the same, so lists and walks are unchanged (docs/performance.md "Memory levers").
+  using CellIndex = std::uint32_t;
   /// Neighbours within `radius` (strictly closer) of each real particle.
   /// x: positions, dim components per particle. `half`: keep only j > i (a half list).
   void build(const double* x, int dim, Index nReal, Index nTotal, double radius,
@@ -52,11 +56,11 @@ class NeighbourSearch {
     int dims[3] = {1, 1, 1};
     double origin[3] = {0, 0, 0};
     double invCell = 1.0, margin = 0.0;
-    Index cells = 0, count = 0;        ///< cells, particles sorted
-    const Index* cellStart = nullptr;  ///< cell c holds the slots cellStart[c] .. cellStart[c+1]
-    const Index* sorted = nullptr;     ///< particle of each slot (cell order)
-    const Index* cellOf = nullptr;     ///< cell of each particle
-    const double* xs = nullptr;        ///< positions by slot (dim per slot)
+    Index cells = 0, count = 0;            ///< cells, particles sorted
+    const CellIndex* cellStart = nullptr;  ///< cell c holds the slots cellStart[c] .. cellStart[c+1]
+    const CellIndex* sorted = nullptr;     ///< particle of each slot (cell order)
+    const CellIndex* cellOf = nullptr;     ///< cell of each particle
+    const double* xs = nullptr;            ///< positions by slot (dim per slot)
   };
   Grid grid() const;
 
@@ -81,10 +85,9 @@ class NeighbourSearch {
   int dims_[3] = {1, 1, 1};
   double origin_[3] = {0, 0, 0};
   double invCell_ = 1.0;
-  std::vector<Index> cellOf_;
-  std::vector<Index> cellStart_;
-  std::vector<Index> sorted_;
-  std::vector<Index> cursor_;
+  std::vector<CellIndex> cellOf_;
+  std::vector<CellIndex> cellStart_;  // nCells_ + 1 (also the counting sort's cursor)
+  std::vector<CellIndex> sorted_;
   std::vector<double> xs_;  // positions in cell order (contiguous candidates)
   double margin_ = 0.0;     // round-off guard of the row pruning (absolute, metres)
   std::vector<std::int64_t> chunkBegin_;

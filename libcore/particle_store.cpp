@@ -9,10 +9,11 @@ ParticleStore::ParticleStore(int dimension) : dim_(dimension) {
   if (dimension < 1 || dimension > 3)
     throw InputError("particle store: dimension must be 1, 2 or 3, got " +
                      std::to_string(dimension));
-  position_ = addReal("position", dim_, kFieldDefault, "core");
-  velocity_ = addReal("velocity", dim_, kFieldDefault, "core");
+  // Single precision in the rollback copy only without solid or rigid particles (health.cpp).
+  position_ = addReal("position", dim_, kFieldDefault | kFieldRollbackSingle, "core");
+  velocity_ = addReal("velocity", dim_, kFieldDefault | kFieldRollbackSingle, "core");
   mass_ = addReal("mass", 1, kFieldDefault, "core");
-  density_ = addReal("density", 1, kFieldDefault, "core");
+  density_ = addReal("density", 1, kFieldDefault | kFieldRollbackSingle, "core");
   phase_ = addInt("phase", 1, kFieldDefault, "core");
   material_ = addInt("material", 1, kFieldDefault, "core");
   id_ = addInt("id", 1, kFieldDefault, "core");

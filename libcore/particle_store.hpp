@@ -27,6 +27,13 @@ enum FieldFlag : unsigned {
   /// (e.g. the solid's reference families): the run loop's rollback copy (RollbackState,
   /// libcore/health.hpp) does not copy it but restores the particle order instead.
   kFieldConstant = 1u << 3,
+  /// The rollback copy (RollbackState, libcore/health.hpp) may hold it in single precision (a
+  /// float offset from the middle of its range when the range excludes 0, else the float of the
+  /// value): a state rolled back to then has this field rounded to 2^-24 of the largest
+  /// |value - offset| (velocity, density, acceleration, pressure; position only
+  /// while the store holds no solid or rigid particle, whose positions define strain and body
+  /// shape; never the solid's reference and deformation fields).
+  kFieldRollbackSingle = 1u << 4,
   kFieldDefault = kFieldOutput | kFieldCheckpoint | kFieldToGhosts,
 };
 

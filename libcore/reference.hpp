@@ -7,10 +7,16 @@
 //   reference: {quantity: laplace_jump, centre: [x, y], radius: R, value: 33.33}
 //   reference: {quantity: fluid_max_speed, at: end}          # any timeseries column
 //   reference: {quantity: kinetic_energy, at: max}           # ... at end | max | min | <time>
+//   reference: {quantity: time, at: first drainage_percolated}          # ... | first COLUMN
+//   reference: {quantity: time, at: 'first solid_damage_max >= 0.1'}    #   [>= VALUE | <= VALUE]
 //
 // Quantities (computed here, from the store's fields, by the code every run executes):
 //   <timeseries column>         a column of timeseries.csv at `at` (end, max, min, or a time in s:
-//                               linear interpolation between the rows around it)
+//                               linear interpolation between the rows around it), or, with
+//                               `at: first COLUMN [>= VALUE]` (or `<=`), the time of the first row
+//                               where timeseries COLUMN is nonzero (an event; the run is not
+//                               measured when it did not happen) or first reaches VALUE
+//                               (interpolated between that row and the one before)
 //   laplace_jump                mean pressure of the fluid particles with colour > 0 within
 //                               R - 3h of `centre` minus that of the fluid particles beyond R + 3h
 //                               (Young-Laplace, thesis Eq. 1.5: gamma / R in 2D, 2 gamma / R in 3D)

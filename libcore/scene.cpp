@@ -288,7 +288,7 @@ Scene buildScene(const YAML::Node& root, const std::string& file, const SceneOpt
       const ParameterSet& g = regs[k];
       Region r;
       r.where = g.where("shape");
-      const std::string shape = g.choice("shape", {"box", "sphere", "image"});
+      const std::string shape = g.choice("shape", {"box", "sphere", "cylinder", "image"});
       if (shape == "image") {  // one region per material of its label map (libcore/image_scene.hpp)
         YAML::Node e;
         appendImageRegions(g, sim, scene.regions, e);
@@ -303,10 +303,24 @@ Scene buildScene(const YAML::Node& root, const std::string& file, const SceneOpt
         for (int a = 0; a < dim; ++a)
           if (!(r.hi[static_cast<size_t>(a)] > r.lo[static_cast<size_t>(a)]))
             g.fail("hi", std::string("must exceed lo along every axis (axis ") + "xyz"[a] + ")");
-      } else {
+      } else if (shape == "sphere") {
         r.shape = Region::Shape::Sphere;
         r.centre = toArray(g.reals("centre", static_cast<size_t>(dim)));
         r.radius = g.real("radius", Range::positive());
+      } else {
+        // A cylinder of `radius` about `axis` through `centre`, `length` long (in 2D the axis
+        // lies in the plane: a rectangle 2 radius x length, tilted with the axis).
+        if (dim < 2) g.fail("shape", "a cylinder needs 2 or 3 dimensions (use a box in 1D)");
+        r.shape = Region::Shape::Cylinder;
+        r.centre = toArray(g.reals("centre", static_cast<size_t>(dim)));
+        r.radius = g.real("radius", Range::positive());
+        r.length = g.real("length", Range::positive());
+        const std::array<double, 3> a = toArray(g.reals("axis", static_cast<size_t>(dim)));
+        double n2 = 0.0;
+        for (int k = 0; k < dim; ++k) n2 += a[static_cast<size_t>(k)] * a[static_cast<size_t>(k)];
+        if (!(n2 > 0.0) || !std::isfinite(n2)) g.fail("axis", "must be a nonzero, finite vector");
+        r.axis = {0.0, 0.0, 0.0};
+        for (int k = 0; k < dim; ++k) r.axis[static_cast<size_t>(k)] = a[static_cast<size_t>(k)] / std::sqrt(n2);
       }
       const std::string material = g.string("material");
       if (material == "none") {
@@ -338,6 +352,10 @@ Scene buildScene(const YAML::Node& root, const std::string& file, const SceneOpt
       } else {
         e["centre"] = seq(r.centre, dim);
         e["radius"] = num(r.radius);
+        if (shape == "cylinder") {
+          e["axis"] = seq(r.axis, dim);
+          e["length"] = num(r.length);
+        }
       }
       e["material"] = material;
       if (r.material >= 0) {

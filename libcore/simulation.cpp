@@ -13,7 +13,7 @@ namespace poresph {
 
 Simulation::Simulation(int dimension) : store(dimension) {
   domain.dimension = dimension;
-  acceleration = store.addReal("acceleration", dimension, kFieldOutput, "core");
+  acceleration = store.addReal("acceleration", dimension, kFieldOutput | kFieldRollbackSingle, "core");
   motion = store.addInt("motion", 1, kFieldDefault, "core");
 }
 

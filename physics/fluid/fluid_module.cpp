@@ -234,7 +234,8 @@ void FluidModule::configure(Simulation& sim, const std::vector<const Material*>&
 
   // fields (produce = register-if-absent)
   auto& st = sim.store;
-  pressure = st.addReal("pressure", 1, kFieldDefault, "fluid");
+  // Single precision in the rollback copy (libcore/health.hpp): a restart re-evaluates it.
+  pressure = st.addReal("pressure", 1, kFieldDefault | kFieldRollbackSingle, "fluid");
   densityRate = st.addReal("density_rate", 1, kFieldNone, "fluid");
   // Inviscid fluids (every fluid material at viscosity 0, e.g. artificial viscosity only, as
   // DualSPHysics' case A; issue 17, memory): the viscous term 5.4 is zero in every pair, so

@@ -189,3 +189,83 @@ TEST(Geometry, OnlySubtractingRegionsGiveNoSite) {
   const Domain d = makeDomain(2, {0, 0, 0}, {1, 1, 0});
   EXPECT_EQ(fillLattice({sphere({0.5, 0.5, 0}, 0.2, -1)}, d, 0.05).count(), 0);
 }
+
+namespace {
+
+Region cylinder(std::array<double, 3> c, std::array<double, 3> axis, double radius, double length,
+                int material = 0) {
+  Region r;
+  r.shape = Region::Shape::Cylinder;
+  r.centre = c;
+  double n = std::sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
+  for (double& a : axis) a /= n;
+  r.axis = axis;
+  r.radius = radius;
+  r.length = length;
+  r.material = material;
+  return r;
+}
+
+// The sites a site-by-site test of Region::contains over the lattice around the region finds
+// (the reference for the row-wise fill, which computes each row's interval in closed form).
+long bruteForceCount(const Region& r, const Domain& d, double dx) {
+  std::array<double, 3> blo, bhi;
+  r.bounds(d.dimension, blo, bhi);
+  long n = 0;
+  std::array<long, 3> i0{0, 0, 0}, i1{0, 0, 0};
+  for (int a = 0; a < d.dimension; ++a) {
+    const size_t s = static_cast<size_t>(a);
+    i0[s] = static_cast<long>(std::floor((blo[s] - d.lo[s]) / dx)) - 2;
+    i1[s] = static_cast<long>(std::ceil((bhi[s] - d.lo[s]) / dx)) + 2;
+  }
+  for (long k = i0[2]; k <= i1[2]; ++k)
+    for (long j = i0[1]; j <= i1[1]; ++j)
+      for (long i = i0[0]; i <= i1[0]; ++i) {
+        const double x[3] = {d.lo[0] + (static_cast<double>(i) + 0.5) * dx,
+                             d.lo[1] + (static_cast<double>(j) + 0.5) * dx,
+                             d.lo[2] + (static_cast<double>(k) + 0.5) * dx};
+        if (r.contains(x, d.dimension, 1e-9 * dx)) ++n;
+      }
+  return n;
+}
+
+}  // namespace
+
+TEST(Geometry, AxisAlignedCylinderIsAStackOfDiscs) {
+  // Radius 4.5 half-spacings about a lattice corner, 6 spacings long: 6 layers of the disc
+  // (2i+1)^2 + (2j+1)^2 <= 81 of the sphere test's integer count.
+  const double dx = 0.01;
+  const Domain d = makeDomain(3, {-1, -1, -1}, {1, 1, 1});
+  const long disc = oddSitesWithin(2, 9);
+  EXPECT_EQ(fillLattice({cylinder({0, 0, 0}, {0, 0, 1}, 4.5 * dx, 6 * dx)}, d, dx).count(), 6 * disc);
+  EXPECT_EQ(fillLattice({cylinder({0, 0, 0}, {1, 0, 0}, 4.5 * dx, 6 * dx)}, d, dx).count(), 6 * disc);
+  EXPECT_EQ(fillLattice({cylinder({0, 0, 0}, {0, 1, 0}, 4.5 * dx, 6 * dx)}, d, dx).count(), 6 * disc);
+  // 2D: an axis along x or y is an axis-aligned rectangle 2 R x L.
+  const Domain d2 = makeDomain(2, {-1, -1, 0}, {1, 1, 0});
+  EXPECT_EQ(fillLattice({cylinder({0, 0, 0}, {1, 0, 0}, 3 * dx, 10 * dx)}, d2, dx).count(), 6 * 10);
+  EXPECT_EQ(fillLattice({cylinder({0, 0, 0}, {0, 1, 0}, 3 * dx, 10 * dx)}, d2, dx).count(), 10 * 6);
+}
+
+TEST(Geometry, TiltedCylinderRowsMatchASiteBySiteFillAndItsVolume) {
+  const double dx = 0.01;
+  const double kPi = 3.14159265358979323846;
+  const Domain d3 = makeDomain(3, {-1, -1, -1}, {1, 1, 1});
+  const std::array<std::array<double, 3>, 4> axes{{{1, 1, 0}, {1, 2, 3}, {-0.3, 0.1, 1}, {1, 1e-3, 0}}};
+  for (const auto& ax : axes) {
+    const Region r = cylinder({0.0123, -0.0071, 0.0049}, ax, 12.3 * dx, 30.7 * dx);
+    const Index n = fillLattice({r}, d3, dx).count();
+    EXPECT_EQ(n, bruteForceCount(r, d3, dx)) << ax[0] << " " << ax[1] << " " << ax[2];
+    // The sites sample the volume pi R^2 L / dx^3 = 14,591 sites: a body 24.6 x 30.7 spacings
+    // counts within 2.5 % of it (1.8 % measured, the worst with the end faces nearly on lattice
+    // planes); a radius off by half a spacing moves it 8 %, a length off by one spacing 3.3 %.
+    const double volume = kPi * 12.3 * 12.3 * 30.7;
+    EXPECT_NEAR(static_cast<double>(n) / volume, 1.0, 0.025) << ax[0] << " " << ax[1] << " " << ax[2];
+  }
+  const Domain d2 = makeDomain(2, {-1, -1, 0}, {1, 1, 0});
+  for (const auto& ax : std::array<std::array<double, 3>, 3>{{{1, 1, 0}, {1, -3, 0}, {2, 0.01, 0}}}) {
+    const Region r = cylinder({0.0031, 0.0017, 0}, ax, 20.2 * dx, 61.4 * dx);
+    const Index n = fillLattice({r}, d2, dx).count();
+    EXPECT_EQ(n, bruteForceCount(r, d2, dx)) << ax[0] << " " << ax[1];
+    EXPECT_NEAR(static_cast<double>(n) / (2 * 20.2 * 61.4), 1.0, 0.025) << ax[0] << " " << ax[1];
+  }
+}

@@ -6,6 +6,9 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -14,6 +17,7 @@
 #include <sstream>
 
 #include "libcore/health.hpp"
+#include "libcore/integrator.hpp"
 #include "libcore/parameters.hpp"
 #include "libcore/runner.hpp"
 #include "libcore/scene.hpp"
@@ -56,16 +60,21 @@ TEST(Rollback, CopiesCheckpointAndOutputFieldsButNotScratchOrConstantOnes) {
   Simulation sim(2);
   const Fields f = fill(sim, 50);
   // Core fields: position, velocity (2 doubles each), mass, density (1 each), phase, material, id,
-  // motion (ints) are all output or checkpoint; acceleration (2 doubles, output) too.
-  const std::size_t core = (2 + 2 + 1 + 1 + 2) * 8 + 4 * 4;
-  const std::size_t mine = 2 * 8 + 1 * 8 + 2 * 4;  // out, ckpt, int_ckpt
+  // motion (ints) are all output or checkpoint; acceleration (2 doubles, output) too. In the
+  // copy: position (no solid or rigid particle), velocity, density and acceleration in single
+  // precision (8 + 8 + 4 + 8 B), id as ints (4 B), and mass, phase, material, motion (all 0
+  // here) by palette (1 B each).
+  const std::size_t core = 8 + 8 + 4 + 8 + 4 + 4 * 1;
+  const std::size_t mine = 2 * 8 + 1 * 8 + 2 * 4;  // out, ckpt, int_ckpt: exact (50+ values)
   EXPECT_EQ(RollbackState::bytesPerParticle(sim.store), core + mine);
-  EXPECT_EQ(sim.store.bytesPerParticle(), core + mine + 3 * 8 + 4 * 8);
+  const std::size_t coreDouble = (2 + 2 + 1 + 1 + 2) * 8 + 4 * 4;
+  EXPECT_EQ(sim.store.bytesPerParticle(), coreDouble + mine + 3 * 8 + 4 * 8);
 
   RollbackState r;
   EXPECT_FALSE(r.restore(sim));  // nothing captured yet
   ASSERT_TRUE(r.capture(sim));
-  EXPECT_EQ(r.bytes(), 50 * (core + mine));
+  // + the 4 palettes of one value and the offsets of the 4 single-precision fields (7 components)
+  EXPECT_EQ(r.bytes(), 50 * (core + mine) + 4 * 8 + 7 * 8);
   sim.time = 1.0;
   sim.step = 1;
   ParticleStore& st = sim.store;
@@ -197,9 +206,22 @@ std::map<std::int32_t, std::vector<double>> positionsById(const Simulation& sim)
   return m;
 }
 
+// Largest distance between the positions of the same particle (by id) in two states.
+double largestGap(const std::map<std::int32_t, std::vector<double>>& a,
+                  const std::map<std::int32_t, std::vector<double>>& b) {
+  double m = 0.0;
+  for (const auto& [id, xa] : a) {
+    const std::vector<double>& xb = b.at(id);
+    double r2 = 0.0;
+    for (size_t q = 0; q < xa.size(); ++q) r2 += (xa[q] - xb[q]) * (xa[q] - xb[q]);
+    m = std::max(m, std::sqrt(r2));
+  }
+  return m;
+}
+
 }  // namespace
 
-TEST(Rollback, AFailedRunWritesTheStateOfTheLastCopyExactly) {
+TEST(Rollback, AFailedRunWritesTheStateOfTheLastCopy) {
   // rollback_every 1: the state before the failed step.
   Scene every = loadText("every.yaml", lowSoundSpeedColumn(""));
   const RunResult r1 = runQuiet(every, "every");
@@ -219,10 +241,163 @@ TEST(Rollback, AFailedRunWritesTheStateOfTheLastCopyExactly) {
   ASSERT_EQ(rs.status, RunStatus::Finished) << rs.message;
   ASSERT_EQ(stopped.sim->step, sparse.sim->step);
   EXPECT_EQ(stopped.sim->time, sparse.sim->time);
-  EXPECT_EQ(positionsById(*stopped.sim), positionsById(*sparse.sim));
+  // A fluid store: positions come back in single precision (libcore/health.hpp: the float of
+  // x - offset, offset the middle of the component's range when the range excludes 0, else 0):
+  // each component within 2^-24 of the largest |x - offset| of the stopped run's (not all equal).
+  auto roundingBound = [](const std::map<std::int32_t, std::vector<double>>& xs) {
+    double tol2 = 0.0;
+    for (int a = 0; a < 2; ++a) {
+      double lo = 1e300, hi = -1e300;
+      for (const auto& [id, x] : xs) lo = std::min(lo, x[a]), hi = std::max(hi, x[a]);
+      const double off = lo > 0.0 || hi < 0.0 ? 0.5 * (lo + hi) : 0.0;
+      const double b = std::ldexp(1.0, -24) * std::max(std::abs(lo - off), std::abs(hi - off));
+      tol2 += b * b;
+    }
+    return std::sqrt(tol2);
+  };
+  const double tol = roundingBound(positionsById(*stopped.sim));
+  EXPECT_LT(largestGap(positionsById(*stopped.sim), positionsById(*sparse.sim)), tol);
+  EXPECT_GT(largestGap(positionsById(*stopped.sim), positionsById(*sparse.sim)), 0.0);
   // The same for the state before the failed step.
   Scene stopped1 = loadText("stopped1.yaml",
                             lowSoundSpeedColumn("max_steps: " + std::to_string(last) + "\n"));
   ASSERT_EQ(runQuiet(stopped1, "stopped1").status, RunStatus::Finished);
-  EXPECT_EQ(positionsById(*stopped1.sim), positionsById(*every.sim));
+  EXPECT_LT(largestGap(positionsById(*stopped1.sim), positionsById(*every.sim)),
+            roundingBound(positionsById(*stopped1.sim)));
+}
+
+namespace {
+
+// A 2D dam break (water column collapsing into a tank; the column above with a sound speed of
+// 10x sqrt(g H)): a state in motion, for the mixed-precision rollback copy.
+std::string damBreak(const std::string& integrator) {
+  return R"(dimension: 2
+domain: {lo: [-0.003, -0.003], hi: [0.043, 0.023]}
+spacing: 0.001
+kernel: wendland_c2
+end_time: 0.5
+time_step: {adaptive: true}
+output: {every_time: 10.0}
+integrator: )" + integrator + R"(
+materials:
+  - {name: water, model: fluid, density: 1000, sound_speed: 5.0, viscosity: 1.0e-3}
+  - {name: steel, model: wall, density: 1000}
+geometry:
+  - {shape: box, lo: [-0.003, -0.003], hi: [0.043, 0.023], material: steel}
+  - {shape: box, lo: [0.0, 0.0], hi: [0.02, 0.02], material: water}
+fluid:
+  gravity: [0, -9.81]
+)";
+}
+
+}  // namespace
+
+TEST(Rollback, MixedPrecisionCopyRestoresFloatRoundedFieldsAndExactOthers) {
+  Simulation sim(2);
+  const Fields f = fill(sim, 40);
+  ParticleStore& st = sim.store;
+  // velocity and density are copied in single precision, mass and the ints by palette (few
+  // distinct values, -0.0 and a NaN among them: bit patterns), `out` exactly (80 values).
+  for (Index i = 0; i < 40; ++i) {
+    st.data(st.velocity())[2 * i] = 1.0 / 3.0 + i;
+    st.data(st.velocity())[2 * i + 1] = -1e-9 * i;
+    st.data(st.density())[i] = 1000.0 + 0.1 / 3.0 * i;
+    st.data(st.mass())[i] = i % 3 == 0 ? 1e-6 / 3.0 : (i % 3 == 1 ? -0.0 : std::nan(""));
+    st.data(st.material())[i] = i % 2 ? 7 : -70000;
+  }
+  EXPECT_EQ(RollbackState::storageOf(st, st.velocity().id), RollbackState::Storage::Single);
+  EXPECT_EQ(RollbackState::storageOf(st, st.density().id), RollbackState::Storage::Single);
+  EXPECT_EQ(RollbackState::storageOf(st, st.mass().id), RollbackState::Storage::Palette);
+  EXPECT_EQ(RollbackState::storageOf(st, st.material().id), RollbackState::Storage::Palette);
+  EXPECT_EQ(RollbackState::storageOf(st, st.id().id), RollbackState::Storage::Int);
+  EXPECT_EQ(RollbackState::storageOf(st, st.position().id), RollbackState::Storage::Single);
+  EXPECT_EQ(RollbackState::storageOf(st, f.out.id), RollbackState::Storage::Double);
+  EXPECT_EQ(RollbackState::storageOf(st, f.none.id), RollbackState::Storage::None);
+  const std::vector<double> v(st.data(st.velocity()), st.data(st.velocity()) + 80);
+  const std::vector<double> rho(st.data(st.density()), st.data(st.density()) + 40);
+  const std::vector<double> m(st.data(st.mass()), st.data(st.mass()) + 40);
+  RollbackState r;
+  ASSERT_TRUE(r.capture(sim));
+  for (Index i = 0; i < 40; ++i) {
+    st.data(st.velocity())[2 * i] = st.data(st.density())[i] = st.data(st.mass())[i] = 5.0;
+    st.data(st.material())[i] = st.data(st.phase())[i] = 5;
+  }
+  ASSERT_TRUE(r.restore(sim));
+  // Rounded to 2^-24 of the span: x-velocity (1/3 .. 39 + 1/3, all > 0) and density (1000 ..
+  // 1001.3) about the middle of their range (half range 19.5 and 0.65), the y-velocity (0 ..
+  // -3.9e-8, includes 0) as itself.
+  bool anyRounded = false;
+  const double ulp = std::ldexp(1.0, -24);
+  for (Index i = 0; i < 40; ++i) {
+    for (int q = 0; q < 2; ++q) {
+      const double was = v[static_cast<size_t>(2 * i + q)];
+      const double now = st.data(st.velocity())[2 * i + q];
+      EXPECT_LE(std::abs(now - was), q == 0 ? ulp * 19.5 : ulp * std::abs(was)) << i;
+      anyRounded |= now != was;
+    }
+    EXPECT_LE(std::abs(st.data(st.density())[i] - rho[static_cast<size_t>(i)]), ulp * 0.65) << i;
+    anyRounded |= st.data(st.density())[i] != rho[static_cast<size_t>(i)];
+    std::uint64_t a, b;
+    std::memcpy(&a, &m[static_cast<size_t>(i)], 8);
+    std::memcpy(&b, &st.data(st.mass())[i], 8);
+    EXPECT_EQ(a, b) << "mass of particle " << i << " not restored bit for bit";
+    EXPECT_EQ(st.data(st.material())[i], i % 2 ? 7 : -70000);
+    EXPECT_EQ(st.data(st.phase())[i], 0);
+    EXPECT_EQ(st.data(f.out)[2 * i], 10.0 * st.data(st.id())[i]);
+  }
+  EXPECT_TRUE(anyRounded);
+  // The palette falls back to a plain copy beyond kPaletteSize distinct values.
+  for (Index i = 0; i < 40; ++i) st.data(st.mass())[i] = 1.0 + i % (RollbackState::kPaletteSize + 1);
+  EXPECT_EQ(RollbackState::storageOf(st, st.mass().id), RollbackState::Storage::Double);
+  ASSERT_TRUE(r.capture(sim));
+  for (Index i = 0; i < 40; ++i) st.data(st.mass())[i] = 0.0;
+  ASSERT_TRUE(r.restore(sim));
+  for (Index i = 0; i < 40; ++i)
+    EXPECT_EQ(st.data(st.mass())[i], 1.0 + i % (RollbackState::kPaletteSize + 1));
+}
+
+TEST(Rollback, ARunRestoredFromTheMixedPrecisionCopyFollowsTheUninterruptedRun) {
+  // A dam break stepped K steps, copied (the run loop's mixed-precision copy, and an exact copy
+  // of every field), then stepped M steps (the uninterrupted run U). Each copy is then restored
+  // and stepped M steps the way a restart from the checkpoint written after a rollback runs
+  // (rates evaluated, the scheme re-primed): R from the mixed copy, E from the exact one. E
+  // differs from U only by the re-priming; R - E is the effect of the single-precision copy.
+  for (const std::string scheme : {"leapfrog", "verlet", "predictor_corrector"}) {
+    Scene s = loadText("dam_" + scheme + ".yaml", damBreak(scheme));
+    Simulation& sim = *s.sim;
+    sim.reorderEvery = 3;
+    const double dx = 0.001;
+    auto integ = makeIntegrator(scheme);
+    const int K = 40, M = 200;
+    for (int k = 0; k < K; ++k) integ->step(sim, s.nextTimeStep());
+    RollbackState mixed, exact(1, true);
+    ASSERT_TRUE(mixed.capture(sim));
+    ASSERT_TRUE(exact.capture(sim));
+    auto run = [&](const RollbackState* from) {
+      if (from) {
+        EXPECT_TRUE(from->restore(sim));
+        EXPECT_EQ(sim.step, K);
+        sim.evaluateRates();
+        integ->invalidate();
+      }
+      for (int k = 0; k < M; ++k) integ->step(sim, s.nextTimeStep());
+      return positionsById(sim);
+    };
+    const auto u = run(nullptr);
+    double vmax = 0.0;
+    for (Index i = 0; i < sim.store.realCount(); ++i)
+      vmax = std::max(vmax, std::hypot(sim.store.data(sim.store.velocity())[2 * i],
+                                       sim.store.data(sim.store.velocity())[2 * i + 1]));
+    const auto r = run(&mixed);
+    const auto e = run(&exact);
+    const double re = largestGap(r, e) / dx, eu = largestGap(e, u) / dx, ru = largestGap(r, u) / dx;
+    std::printf("  %s, %d steps after the copy (t = %.4g s, v_max %.3g m/s): |R - E| = %.3g dx, "
+                "|E - U| = %.3g dx, |R - U| = %.3g dx\n",
+                scheme.c_str(), M, sim.time, vmax, re, eu, ru);
+    // Measured (2026-11-27): |R - E| 4.3e-5 dx (leapfrog, verlet), 2.9e-5 dx (predictor-
+    // corrector), |E - U| 2.4e-6 dx (the re-priming alone): the single-precision copy moves the
+    // particles by < 1e-4 dx over 200 steps of a collapsing column.
+    EXPECT_GT(re, 0.0);  // the rounding is there
+    EXPECT_LT(re, 1e-4);
+  }
 }

@@ -384,3 +384,31 @@ TEST(Scene, ResolvedSceneIsItselfAValidSceneThatBuildsTheSameParticles) {
   const std::string twice = resolvedSceneYaml(again);
   EXPECT_EQ(twice.substr(twice.find("# smoothing")), echo.substr(echo.find("# smoothing")));
 }
+
+TEST(Scene, CylinderRegionIsReadNormalisedAndRefusesBadKeys) {
+  // A 2D cylinder along (1, 1): a rectangle 2 x 0.1 by 0.4 tilted at 45 degrees, subtracted.
+  const std::string cyl =
+      "  - {shape: cylinder, centre: [0.5, 0.25], axis: [1, 1], radius: 0.1, length: 0.4, "
+      "material: none}\n";
+  Scene s = loadScene(writeScene("cylinder.yaml", std::string(kBase) + cyl));
+  ASSERT_EQ(s.regions.size(), 2u);
+  const Region& r = s.regions[1];
+  EXPECT_EQ(r.shape, Region::Shape::Cylinder);
+  EXPECT_NEAR(r.axis[0], std::sqrt(0.5), 1e-15);
+  EXPECT_NEAR(r.axis[1], std::sqrt(0.5), 1e-15);
+  EXPECT_DOUBLE_EQ(r.length, 0.4);
+  // The rectangle covers 0.08 m^2 = 32 sites of 0.05 x 0.05; the lattice count of a tilted
+  // rectangle 4 x 8 spacings differs from it by boundary sites only.
+  EXPECT_NEAR(200 - s.particlesPerMaterial.at(0), 32, 6);
+  const std::string zero = errorOf(
+      "cylinder_axis.yaml",
+      std::string(kBase) + "  - {shape: cylinder, centre: [0.5, 0.25], axis: [0, 0], radius: 0.1, "
+                           "length: 0.4, material: none}\n");
+  EXPECT_NAMES(zero, "cylinder_axis.yaml");
+  EXPECT_NAMES(zero, "geometry[1].axis");
+  const std::string len = errorOf(
+      "cylinder_length.yaml",
+      std::string(kBase) + "  - {shape: cylinder, centre: [0.5, 0.25], axis: [1, 0], radius: 0.1, "
+                           "length: -1, material: none}\n");
+  EXPECT_NAMES(len, "geometry[1].length");
+}
