@@ -93,8 +93,9 @@ RunOptions options(const std::string& name) {
   return o;
 }
 
-// Every free particle: v_x = g t, x = x0 + g t^2 / 2 (x0 on the lattice); fixed ones at rest.
-void expectFreeFall(const Simulation& sim, double t) {
+// Every free particle: v_x = g t (within vRel of it), x = x0 + g t^2 / 2 (x0 on the lattice);
+// fixed ones at rest.
+void expectFreeFall(const Simulation& sim, double t, double vRel = 1e-10) {
   const auto& st = sim.store;
   for (Index i = 0; i < st.realCount(); ++i) {
     const double vx = st.data(st.velocity())[2 * i];
@@ -103,7 +104,7 @@ void expectFreeFall(const Simulation& sim, double t) {
     if (st.data(sim.motion)[i] == kMotionFixed) {
       EXPECT_EQ(vx, 0.0);
     } else {
-      EXPECT_NEAR(vx, control.g * t, 1e-12);
+      EXPECT_NEAR(vx, control.g * t, vRel * std::fabs(control.g * t) + 1e-15);
     }
     // x0 must be a lattice site (k + 1/2) dx
     const double k = x0 / 0.01 - 0.5;
@@ -155,7 +156,10 @@ TEST(Runner, NumericalFailureRestoresAndWritesTheLastGoodState) {
   EXPECT_EQ(s.sim->step, 7);
   EXPECT_NEAR(s.sim->time, 0.0035, 1e-15);
   EXPECT_NO_THROW(s.sim->checkFinite());
-  expectFreeFall(*s.sim, s.sim->time);
+  // The state restored from the health monitor's copy: velocities were kept in single precision
+  // there (libcore/health.hpp, the rollback copy in mixed precision), so v_x = g t to float
+  // rounding (2^-24 relative; measured 3.1e-8).
+  expectFreeFall(*s.sim, s.sim->time, 1.2e-7);
   EXPECT_TRUE(fs::exists(r.checkpoint));
   EXPECT_NE(r.lastSnapshot.find("step_00000007.vtu"), std::string::npos) << r.lastSnapshot;
   EXPECT_TRUE(fs::exists(fs::path(r.lastSnapshot)));
