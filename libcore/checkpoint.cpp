@@ -134,6 +134,13 @@ void writeModuleStates(const Simulation& sim, hid_t file, const std::string& pat
   }
 }
 
+/// A module state entry whose name starts with "setting_" records a setting the run used (e.g.
+/// the fluid's resolved `pressure_gradient`, whose default changed on 2026-11-27), not state
+/// the restart needs: a checkpoint written before the module recorded it hands the entry back
+/// with no values, and the module decides (keep its configured value, warn). Every other entry
+/// is required.
+bool isSettingEntry(const std::string& name) { return name.rfind("setting_", 0) == 0; }
+
 /// Reads every module's state (checked: same entries and lengths as the module's own state)
 /// before anything is restored; returns one state per module (empty for modules without one).
 std::vector<ModuleState> readModuleStates(const Simulation& sim, hid_t file,
@@ -146,14 +153,27 @@ std::vector<ModuleState> readModuleStates(const Simulation& sim, hid_t file,
       continue;
     }
     const std::string where = "modules/" + m->name();
-    if (H5Lexists(file, "modules", H5P_DEFAULT) <= 0 ||
-        H5Lexists(file, where.c_str(), H5P_DEFAULT) <= 0)
+    const bool hasGroup = H5Lexists(file, "modules", H5P_DEFAULT) > 0 &&
+                          H5Lexists(file, where.c_str(), H5P_DEFAULT) > 0;
+    bool onlySettings = true;
+    for (const auto& entry : expected) onlySettings = onlySettings && isSettingEntry(entry.first);
+    if (!hasGroup && onlySettings) {  // written before the module recorded its settings
+      for (auto& entry : expected) entry.second.clear();
+      out.push_back(std::move(expected));
+      continue;
+    }
+    if (!hasGroup)
       fail(path, "the state of module '" + m->name() + "' (group '" + where +
                      "') is missing from the file");
     Handle group(H5Gopen2(file, where.c_str(), H5P_DEFAULT), H5Gclose);
     for (auto& [name, values] : expected) {
-      if (H5Lexists(group, name.c_str(), H5P_DEFAULT) <= 0)
+      if (H5Lexists(group, name.c_str(), H5P_DEFAULT) <= 0) {
+        if (isSettingEntry(name)) {
+          values.clear();
+          continue;
+        }
         fail(path, "module state '" + where + "/" + name + "' is missing from the file");
+      }
       Handle set(H5Dopen2(group, name.c_str(), H5P_DEFAULT), H5Dclose);
       Handle space(H5Dget_space(set), H5Sclose);
       const hssize_t n = H5Sget_simple_extent_npoints(space);

@@ -95,9 +95,56 @@ std::string sceneSignature(const Scene& scene) {
   return fnv1a(e.c_str());
 }
 
+namespace {
+/// The signatures of `scene` as written before its explicit `fluid: {pressure_gradient:
+/// symmetric}` key was added: the key removed, and the section too if that empties it. A run
+/// started before 2026-11-27 without the key ran with Eq. 5.2b, the default then; its
+/// checkpoint does not record the form (the fluid's `setting_pressure_gradient` came later), so
+/// the restart's warning asks for the key, and the key must not make the scene another one.
+/// The fluid module refuses the key against a checkpoint that records another form.
+std::vector<std::string> legacySymmetricSignatures(const Scene& scene) {
+  const YAML::Node fluid = scene.resolved["fluid"];
+  if (!fluid || !fluid.IsMap() || !fluid["pressure_gradient"] ||
+      !fluid["pressure_gradient"].IsScalar() ||
+      fluid["pressure_gradient"].Scalar() != "symmetric")
+    return {};
+  std::vector<std::string> out;
+  for (bool dropEmpty : {false, true}) {
+    YAML::Node physics = YAML::Clone(scene.resolved);
+    physics["fluid"].remove("pressure_gradient");
+    if (dropEmpty) {
+      if (physics["fluid"].size() != 0) continue;
+      physics.remove("fluid");
+    }
+    for (const char* key : {"end_time", "max_steps", "time_step", "output", "health"})
+      physics.remove(key);
+    YAML::Emitter e;
+    e << physics;
+    out.push_back(fnv1a(e.c_str()));
+  }
+  return out;
+}
+}  // namespace
+
 void restoreCheckpoint(Scene& scene, const std::string& path, ModuleState* integratorState) {
   Simulation& sim = *scene.sim;
-  readCheckpoint(sim, path, sceneSignature(scene), integratorState);
+  try {
+    readCheckpoint(sim, path, sceneSignature(scene), integratorState);
+  } catch (const InputError& e) {
+    // Only the signature check (made before anything is read into the simulation) is retried.
+    if (std::string(e.what()).find("scene signature") == std::string::npos) throw;
+    bool restored = false;
+    for (const std::string& legacy : legacySymmetricSignatures(scene)) {
+      try {
+        readCheckpoint(sim, path, legacy, integratorState);
+        restored = true;
+        break;
+      } catch (const InputError& again) {
+        if (std::string(again.what()).find("scene signature") == std::string::npos) throw;
+      }
+    }
+    if (!restored) throw;
+  }
   if (scene.finished())
     throw InputError(path + ": the checkpoint is at time " + std::to_string(sim.time) +
                      " s, step " + std::to_string(sim.step) + ", which is not before the end of " +
