@@ -11,6 +11,8 @@
 // undamageable material above, or a rigid body of the rigid module (physics/rigid) bonded to the
 // clay (`bonded: true`: the clay's first layer held to anchor points fixed in the body frame,
 // A.6), either held (`fixed: true`) or free (translates and rotates with the clay it is bonded to).
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -345,6 +347,42 @@ inline PlateResult runPlate(const PlateSetup& s) {
   if (!s.dump.empty() && !s.law.empty()) dumpCsv(s.dump + "_end.csv", sim);
   r.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
+}
+
+/// The tension plate of the tests and studies (docs/damage.md "The plate at 200 / 300 / 400
+/// points"): the top pulled along y to uMax over rampCrossings L / c_p, the bottom layer held with
+/// the inclusion (with the inclusion alone the crack wraps around it and runs down to the bottom
+/// edge), no hourglass control (with hourglass 1, E-stiff springs that the damage does not soften
+/// and whose energy is not in the stored energy, the crack needs ~2x the onset displacement to
+/// cross and the energy balance leaves 14-18 % of the work), the damage committed at the
+/// evaluation (a^{n+1} with D^{n+1}, "The commit lag"); AT-2 with Yc0 = 2500 Pa and dt = 0.5 x
+/// Eq. 2.50 unless the caller changes them.
+inline PlateSetup tensionPlate(double dx, double support, double uMax, double rampCrossings) {
+  PlateSetup s;
+  s.dx = dx;
+  s.support = support;
+  s.uMax = uMax;
+  s.rampCrossings = rampCrossings;
+  s.clampBottom = true;
+  s.hourglass = 0.0;
+  s.damageCommit = "evaluation";
+  return s;
+}
+
+/// The coarse tension plate of the default tests: 60 x 60 points (dx = 5 mm), 2h = 12.5 mm, to
+/// 60 um over 24 L / c_p (2.5 um per L / c_p).
+inline PlateSetup coarseTensionPlate() { return tensionPlate(5e-3, 12.5e-3, 60e-6, 24); }
+
+/// Onset (first D >= threshold) on the upper half of the inclusion's boundary (radius a, within
+/// two supports of it), a crack that reaches both sides, left-right symmetry within 10 %.
+inline void expectCrackFromTheInclusionTopToBothSides(const PlateResult& r, const PlateSetup& s, double a) {
+  ASSERT_GT(r.uOnset, 0.0) << "no damage";
+  const double rOnset = std::hypot(r.xOnset, r.yOnset);
+  EXPECT_GT(r.yOnset, 0.0);
+  EXPECT_GE(rOnset, a);
+  EXPECT_LT(rOnset, a + 2 * s.support);
+  EXPECT_GT(r.uCross, r.uOnset) << "the crack did not reach both sides";
+  EXPECT_LT(r.asymmetry, 0.10);
 }
 
 }  // namespace poresph::solid::plate

@@ -91,38 +91,11 @@ TEST(DamagePlate, Explore) {
                           "recorded (run by hand)", "Eqs. 4.25-4.26 with the boundary work"});
 }
 
-namespace {
-
-// The coarse plate in tension (60 x 60 points, 2h = 12.5 mm, bottom clamped with the inclusion)
-// that both coarse tension tests run. No hourglass control: with hourglass 1 (E-stiff springs
-// that the damage does not soften and whose energy is not in the stored energy) the crack needs
-// ~2x the onset displacement to cross and the energy balance leaves 14-18 % of the work; without
-// it 0.05 % (docs/damage.md). a^{n+1} with D^{n+1} (docs/damage.md "The commit lag").
-PlateSetup coarseTensionPlate() {
-  PlateSetup s;
-  s.dx = 5e-3;
-  s.support = 12.5e-3;
-  s.uMax = 60e-6;
-  s.rampCrossings = 24;
-  s.clampBottom = true;
-  s.hourglass = 0.0;
-  s.damageCommit = "evaluation";
-  return s;
-}
-
-// Onset on the upper half of the inclusion's boundary (radius a, within two supports of it), a
-// crack that reaches both sides, left-right symmetry within 10 %.
-void expectCrackFromTheInclusionTopToBothSides(const PlateResult& r, const PlateSetup& s, double a) {
-  ASSERT_GT(r.uOnset, 0.0) << "no damage";
-  const double rOnset = std::hypot(r.xOnset, r.yOnset);
-  EXPECT_GT(r.yOnset, 0.0);
-  EXPECT_GE(rOnset, a);
-  EXPECT_LT(rOnset, a + 2 * s.support);
-  EXPECT_GT(r.uCross, r.uOnset) << "the crack did not reach both sides";
-  EXPECT_LT(r.asymmetry, 0.10);
-}
-
-}  // namespace
+// The coarse plate in tension of both coarse tension tests (60 x 60 points, 2h = 12.5 mm,
+// bottom clamped with the inclusion, no hourglass control, damage committed at the evaluation)
+// and their onset / crossing / symmetry checks are coarseTensionPlate() and
+// expectCrackFromTheInclusionTopToBothSides() of damage_plate_case.hpp (no hourglass control:
+// energy balance 0.05 % of the work without it, 14-18 % with hourglass 1, docs/damage.md).
 
 // Coarse plate (dx = 5 mm, 2h = 12.5 mm, 60 x 60 points), AT-2 in tension, the bottom layer
 // clamped with the inclusion (see docs/damage.md: with the inclusion alone the crack wraps around

@@ -34,16 +34,10 @@ using namespace poresph::solid::plate;
 namespace {
 
 PlateSetup fine(Inclusion k) {
-  PlateSetup s;
-  s.dx = 2e-3;
-  s.support = 5e-3;
-  s.clampBottom = true;
-  s.hourglass = 0.0;
-  s.damageCommit = "evaluation";
-  s.dtFactor = 0.9;
   const bool free = k == Inclusion::RigidFree;
-  s.uMax = free ? 70e-6 : 40e-6;  // 2.5 um per crossing
-  s.rampCrossings = free ? 28 : 16;
+  // 2.5 um per crossing; bottom held, no hourglass control, evaluation commit (damage_plate_case.hpp)
+  PlateSetup s = tensionPlate(2e-3, 5e-3, free ? 70e-6 : 40e-6, free ? 28 : 16);
+  s.dtFactor = 0.9;
   s.inclusion = k;
   if (const char* d = std::getenv("RIGID_PLATE_LONG_DUMP"))
     s.dump = std::string(d) + (k == Inclusion::Clamped ? "_clamped" : k == Inclusion::RigidFixed ? "_fixed" : "_free");
