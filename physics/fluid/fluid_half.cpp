@@ -546,7 +546,9 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
               blk.visc[q] = f.visc ? static_cast<Real>(f.visc[j]) : Real(1);
               blk.drho[q] = static_cast<Real>(rhoa - f.rho[j]);
               blk.same[q] = f.mt[j] == ida ? Real(1) : Real(0);
-              blk.wc[q] = static_cast<Real>(ifaceWeight_[static_cast<size_t>(ida * nm + f.mt[j])]);
+              blk.wc[q] = acousticInterface_
+                              ? static_cast<Real>(ifaceWeight_[static_cast<size_t>(ida * nm + f.mt[j])])
+                              : Real(1);
             }
             constexpr auto kSym = FluidPressureForm::Symmetric, kHu = FluidPressureForm::HuAdams,
                            kVol = FluidPressureForm::Volume;
@@ -685,7 +687,9 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
             const Vec<D> fB = tbAcc.pressure + tbAcc.viscous + tbAcc.artificial;
             // Eq. 5.1a / mass form, times the interface weight between two fluids
             // (interfaceContinuityWeight; 1 within one material)
-            const double wcA = valid(ida) && valid(idb) ? ifaceWeight_[static_cast<size_t>(ida * nm + idb)] : 1.0;
+            const double wcA = acousticInterface_ && valid(ida) && valid(idb)
+                                   ? ifaceWeight_[static_cast<size_t>(ida * nm + idb)]
+                                   : 1.0;
             if (recA) {
               accA += fA;
               divA += wcA * continuityTerm(form, rhoa, mb, Vb, vabGradW);
