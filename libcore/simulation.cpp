@@ -247,6 +247,15 @@ void Simulation::checkFinite() const {
     const int id = static_cast<int>(&s - store.fields().data());
     const double* d = store.data(RealField{id});
     const Index c = s.components;
+    // Fast test first: x - x is +0 for every finite x and NaN for an infinity or a NaN, so the
+    // sum over the field is 0 exactly when every value is finite (a branch-free loop the compiler
+    // vectorises: ~1 instruction per value against ~10 for a test and a branch per value). Only
+    // a field that fails it is scanned for its first particle that is not finite.
+    const Index count = n * c;
+    double probe = 0.0;
+#pragma omp parallel for simd reduction(+ : probe) schedule(static)
+    for (Index k = 0; k < count; ++k) probe += d[k] - d[k];
+    if (probe == 0.0) continue;
     Index bad = n;
 #pragma omp parallel for reduction(min : bad) schedule(static)
     for (Index i = 0; i < n; ++i)
