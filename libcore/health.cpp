@@ -223,6 +223,26 @@ bool singleAllowed(const ParticleStore& st, int f, bool everyField) {
   return true;
 }
 
+// Range of each of the NC components of count / NC values (lo = min, hi = max, std::min /
+// std::max in index order: the same results as one pass per component), in one pass over memory.
+template <int NC>
+void componentRange(const double* p, std::size_t count, double* lo, double* hi) {
+  for (int a = 0; a < NC; ++a) lo[a] = hi[a] = p[a];
+  for (std::size_t k = 0; k < count; k += NC)
+    for (int a = 0; a < NC; ++a) {
+      lo[a] = std::min(lo[a], p[k + static_cast<std::size_t>(a)]);
+      hi[a] = std::max(hi[a], p[k + static_cast<std::size_t>(a)]);
+    }
+}
+template <int NC>
+void toSingle(const double* p, std::size_t count, const double* off, float* q) {
+  for (std::size_t k = 0; k < count; k += NC)
+    for (int a = 0; a < NC; ++a) {
+      const std::size_t m = k + static_cast<std::size_t>(a);
+      q[m] = static_cast<float>(p[m] - off[a]);
+    }
+}
+
 }  // namespace
 
 RollbackState::Storage RollbackState::storageOf(const ParticleStore& st, int f, bool everyField) {
@@ -296,15 +316,19 @@ bool RollbackState::capture(const Simulation& sim) {
                  : Storage::Palette;  // tried first; falls back to Double / Int below
     if (want == Storage::Palette) {
       // Lossless: a byte per value when the field holds at most kPaletteSize distinct values.
-      // The first pass only counts (it stops at the 17th distinct value: a few values for a
-      // field of many), the second writes the codes.
       const RealField rf{static_cast<int>(f)};
       const IntField inf{static_cast<int>(f)};
-      if (real) paletteOf(st.data(rf), count, col.palette, nullptr);
-      else paletteOf(st.data(inf), count, col.palette, nullptr);
+      // A field that was a palette at the last capture (the steady state: mass, phase, material,
+      // motion) is coded in one pass that counts as it writes; any other is first only counted
+      // (the count stops at the 17th distinct value: a few values for a field of many), then
+      // coded in a second pass if it fits.
+      const bool onePass = col.storage == Storage::Palette;
+      if (onePass) col.code.resize(count);
+      if (real) paletteOf(st.data(rf), count, col.palette, onePass ? col.code.data() : nullptr);
+      else paletteOf(st.data(inf), count, col.palette, onePass ? col.code.data() : nullptr);
       if (count == 0 || static_cast<int>(col.palette.size()) > kPaletteSize) {
         want = real ? Storage::Double : Storage::Int;
-      } else {
+      } else if (!onePass) {
         col.code.resize(count);
         if (real) paletteOf(st.data(rf), count, col.palette, col.code.data());
         else paletteOf(st.data(inf), count, col.palette, col.code.data());
@@ -327,23 +351,39 @@ bool RollbackState::capture(const Simulation& sim) {
       const double* p = st.data(RealField{static_cast<int>(f)});
       const int nc = specs[f].components;
       col.offset.assign(static_cast<size_t>(nc), 0.0);
-      for (int a = 0; a < nc && n_ > 0; ++a) {
-        double lo = p[a], hi = p[a];
-        for (size_t k = static_cast<size_t>(a); k < count; k += static_cast<size_t>(nc)) {
-          lo = std::min(lo, p[k]);
-          hi = std::max(hi, p[k]);
-        }
-        if ((lo > 0.0 || hi < 0.0) && std::isfinite(lo) && std::isfinite(hi))
-          col.offset[static_cast<size_t>(a)] = 0.5 * (lo + hi);
-      }
       col.single.resize(count);
       float* q = col.single.data();
       const double* off = col.offset.data();
-      for (size_t i = 0; i < static_cast<size_t>(n_); ++i)
-        for (int a = 0; a < nc; ++a) {
-          const size_t k = i * static_cast<size_t>(nc) + static_cast<size_t>(a);
-          q[k] = static_cast<float>(p[k] - off[a]);
+      // Components 1-3 (every flagged field) with the count known to the compiler: one pass for
+      // the ranges and one for the conversion (issue 17: 0f22d92's strided passes were ~4 % of a
+      // case B step); any other count per component, as before.
+      if (n_ > 0 && nc >= 1 && nc <= 3) {
+        double lo[3], hi[3];
+        if (nc == 1) componentRange<1>(p, count, lo, hi);
+        else if (nc == 2) componentRange<2>(p, count, lo, hi);
+        else componentRange<3>(p, count, lo, hi);
+        for (int a = 0; a < nc; ++a)
+          if ((lo[a] > 0.0 || hi[a] < 0.0) && std::isfinite(lo[a]) && std::isfinite(hi[a]))
+            col.offset[static_cast<size_t>(a)] = 0.5 * (lo[a] + hi[a]);
+        if (nc == 1) toSingle<1>(p, count, off, q);
+        else if (nc == 2) toSingle<2>(p, count, off, q);
+        else toSingle<3>(p, count, off, q);
+      } else {
+        for (int a = 0; a < nc && n_ > 0; ++a) {
+          double lo = p[a], hi = p[a];
+          for (size_t k = static_cast<size_t>(a); k < count; k += static_cast<size_t>(nc)) {
+            lo = std::min(lo, p[k]);
+            hi = std::max(hi, p[k]);
+          }
+          if ((lo > 0.0 || hi < 0.0) && std::isfinite(lo) && std::isfinite(hi))
+            col.offset[static_cast<size_t>(a)] = 0.5 * (lo + hi);
         }
+        for (size_t i = 0; i < static_cast<size_t>(n_); ++i)
+          for (int a = 0; a < nc; ++a) {
+            const size_t k = i * static_cast<size_t>(nc) + static_cast<size_t>(a);
+            q[k] = static_cast<float>(p[k] - off[a]);
+          }
+      }
     }
   }
   time_ = sim.time;
