@@ -543,13 +543,20 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
               const MaterialData& mB = md[f.mt[j]];
               blk.c[q] = static_cast<Real>(mB.soundSpeed);
               blk.mu[q] = static_cast<Real>(mB.viscosity);
-              blk.visc[q] = f.visc ? static_cast<Real>(f.visc[j]) : Real(1);
               blk.drho[q] = static_cast<Real>(rhoa - f.rho[j]);
               blk.same[q] = f.mt[j] == ida ? Real(1) : Real(0);
-              blk.wc[q] = acousticInterface_
-                              ? static_cast<Real>(ifaceWeight_[static_cast<size_t>(ida * nm + f.mt[j])])
-                              : Real(1);
             }
+            // The optional columns in loops of their own, the option tested once per block (the
+            // same values as a test per pair; issue 17, docs/performance.md "Instruction counts").
+            if (const double* fv = f.visc)
+              for (int q = 0; q < nb; ++q) blk.visc[q] = static_cast<Real>(fv[blk.j[q]]);
+            else
+              for (int q = 0; q < nb; ++q) blk.visc[q] = Real(1);
+            if (acousticInterface_)
+              for (int q = 0; q < nb; ++q)
+                blk.wc[q] = static_cast<Real>(ifaceWeight_[static_cast<size_t>(ida * nm + f.mt[blk.j[q]])]);
+            else
+              for (int q = 0; q < nb; ++q) blk.wc[q] = Real(1);
             constexpr auto kSym = FluidPressureForm::Symmetric, kHu = FluidPressureForm::HuAdams,
                            kVol = FluidPressureForm::Volume;
             if (pForm == kHu)
@@ -561,19 +568,25 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
             else
               kr.massForm ? fluidFluidBlockTerms<Real, D, kType, kSym, true>(blk, row, kr)
                           : fluidFluidBlockTerms<Real, D, kType, kSym, false>(blk, row, kr);
-            for (int q = 0; q < nb; ++q) {
-              double* tb = scatter_.at(t, own, blk.j[q]);
-              for (int a = 0; a < D; ++a) {
-                tb[a] += static_cast<double>(blk.fB[a][q]);
-                accA[a] += static_cast<double>(blk.fA[a][q]);
+            // The scatter, with the viscous moment's branch taken once per block (two copies of
+            // the loop; the same sums in the same order).
+            auto scatterBlock = [&](auto withMoment) {
+              for (int q = 0; q < nb; ++q) {
+                double* tb = scatter_.at(t, own, blk.j[q]);
+                for (int a = 0; a < D; ++a) {
+                  tb[a] += static_cast<double>(blk.fB[a][q]);
+                  accA[a] += static_cast<double>(blk.fA[a][q]);
+                }
+                tb[kDiv] += static_cast<double>(blk.divB[q]);
+                tb[kDiff] += static_cast<double>(blk.diffB[q]);
+                if constexpr (decltype(withMoment)::value) tb[kMom] += static_cast<double>(blk.momB[q]);
+                divA += static_cast<double>(blk.divA[q]);
+                diffA += static_cast<double>(blk.diffA[q]);
+                momA += static_cast<double>(blk.momA[q]);
               }
-              tb[kDiv] += static_cast<double>(blk.divB[q]);
-              tb[kDiff] += static_cast<double>(blk.diffB[q]);
-              if (momOn) tb[kMom] += static_cast<double>(blk.momB[q]);
-              divA += static_cast<double>(blk.divA[q]);
-              diffA += static_cast<double>(blk.diffA[q]);
-              momA += static_cast<double>(blk.momA[q]);
-            }
+            };
+            if (momOn) scatterBlock(std::true_type{});
+            else scatterBlock(std::false_type{});
             blk.n = 0;
           };
           auto push = [&](auto& blk, Index j) {
