@@ -463,6 +463,11 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
   }
   const unsigned char* recv = recvW;
   auto receives = [recv](Index i) { return recv[i] != 0; };
+  // One fluid material: every receiving particle is of it (the block's material columns are then
+  // constants, above).
+  int fluidMaterials = 0;
+  for (int k = 0; k < nm; ++k) fluidMaterials += md[k].fluid ? 1 : 0;
+  const bool oneFluid = fluidMaterials == 1;
   auto valid = [&](int id) { return id >= 0 && id < nm; };
   // Rows of boundary particles without a fluid neighbour (the constitutive stage's flags, a
   // superset until the next search) hold no pair this loop evaluates: skipped whole.
@@ -540,11 +545,26 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
               blk.pRho2[q] = static_cast<Real>(pRho2[j]);
               blk.V[q] = static_cast<Real>(vol[j]);
               blk.m[q] = static_cast<Real>(f.m[j]);
-              const MaterialData& mB = md[f.mt[j]];
-              blk.c[q] = static_cast<Real>(mB.soundSpeed);
-              blk.mu[q] = static_cast<Real>(mB.viscosity);
               blk.drho[q] = static_cast<Real>(rhoa - f.rho[j]);
-              blk.same[q] = f.mt[j] == ida ? Real(1) : Real(0);
+            }
+            // The neighbour's material: with one fluid material every receiving particle has it,
+            // so both particles of a block pair are of i's material (the same values as the
+            // per-pair lookup).
+            if (oneFluid) {
+              const Real cA = static_cast<Real>(mA->soundSpeed), muA = static_cast<Real>(mA->viscosity);
+              for (int q = 0; q < nb; ++q) {
+                blk.c[q] = cA;
+                blk.mu[q] = muA;
+                blk.same[q] = Real(1);
+              }
+            } else {
+              for (int q = 0; q < nb; ++q) {
+                const int mtj = f.mt[blk.j[q]];
+                const MaterialData& mB = md[mtj];
+                blk.c[q] = static_cast<Real>(mB.soundSpeed);
+                blk.mu[q] = static_cast<Real>(mB.viscosity);
+                blk.same[q] = mtj == ida ? Real(1) : Real(0);
+              }
             }
             // The optional columns in loops of their own, the option tested once per block (the
             // same values as a test per pair; issue 17, docs/performance.md "Instruction counts").
