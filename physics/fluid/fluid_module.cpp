@@ -141,6 +141,14 @@ void FluidModule::configure(Simulation& sim, const std::vector<const Material*>&
     // interfaceContinuityWeight). Equal impedances give Eq. 5.1a exactly.
     acousticInterface_ =
         s.choice("continuity_interface", "mean", {"mean", "acoustic"}) == "acoustic";
+    // The pressure a fluid particle sees at a wall particle (issue 14, docs/fluid.md "Gas bubble
+    // trapped in a dead-end pore"): `extrapolated` (Adami et al. 2012) is the Shepard mean of the
+    // wall's fluid neighbours of every fluid; `light_mirror` gives a fluid lighter than the
+    // heaviest fluid of the scene its own pressure and density at the wall (the mirror model),
+    // so that at a contact line the heavy fluid's pressure in the wall's mean does not pull the
+    // light one into the wall. The heaviest fluid keeps the extrapolation.
+    wallMirrorLight_ =
+        s.choice("wall_pressure", "extrapolated", {"extrapolated", "light_mirror"}) == "light_mirror";
     harmonicMean_ =
         s.choice("viscosity_mean", "harmonic", {"harmonic", "arithmetic"}) == "harmonic";
     gamma_ = s.real("surface_tension", 0.0, Range::nonNegative());
@@ -227,6 +235,15 @@ void FluidModule::configure(Simulation& sim, const std::vector<const Material*>&
             ifaceWeight_[a * nmat + b] = w;
             ifaceWeight_[b * nmat + a] = 2.0 - w;  // exactly what the symmetric loop gives b
           }
+  }
+  // wall_pressure: light_mirror (above): which fluids take their own pressure at the walls.
+  {
+    double heaviest = 0.0;
+    for (const MaterialData& m : mat_)
+      if (m.fluid) heaviest = std::max(heaviest, m.rho0);
+    wallMirror_.assign(mat_.size(), 0);
+    if (wallMirrorLight_)
+      for (size_t a = 0; a < mat_.size(); ++a) wallMirror_[a] = mat_[a].fluid && mat_[a].rho0 < heaviest;
   }
   sim.fluidPairSettings = FluidPairSettings{pressureForm_ == PressureForm::HuAdams, harmonicMean_,
                                             artificialViscosity_, sim.kernel.h(),
@@ -1029,6 +1046,9 @@ void FluidModule::forcesD(Simulation& sim) {
   const double* pRho2 = pRho2W;
   const double* wallRho = single ? pRho2W : nullptr;  // at boundary particles (above)
   const FluidFluidOptions ffOptions{pressureForm_, pOff, artificialViscosity_, h};
+  if (wallMirrorLight_ && nl.half)
+    throw InputError("fluid: wall_pressure: light_mirror needs the full neighbour list "
+                     "(neighbour_list: full or auto)");
   if (nl.half) {
     forceLoopHalf<D>(sim, f, uShift, wallRho);  // fluid_half.cpp
   } else {
@@ -1059,6 +1079,7 @@ void FluidModule::forcesD(Simulation& sim) {
              gradC = Vec<D>::Zero();
       double divv = 0.0, diff = 0.0;
       const bool csfHere = gamma_ > 0.0 && itf[i] && !balancedCsf_;
+      const bool mirrorAtWalls = wallMirror_[static_cast<size_t>(ida)] != 0;
       Vec<D> nU = Vec<D>::Zero(), nW = Vec<D>::Zero(), tv = Vec<D>::Zero();
       double kS = 0.0, wS = 0.0;
       for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
@@ -1104,8 +1125,10 @@ void FluidModule::forcesD(Simulation& sim) {
         }
         if (f.ph[j] == kPhaseWall) {
           // Fixed boundary: extrapolated pressure, no-slip velocity (the shared pair terms).
+          // wall_pressure: light_mirror: a lighter fluid takes its own pressure and density there.
           const FluidPairResult<D> t =
-              fluidBoundaryPair<D>(r, F, sideA, wallPairSide<D>(f, j, vol, wallRho, vb), pairSettings);
+              fluidBoundaryPair<D>(r, F, sideA, wallPairSide<D>(f, j, vol, wallRho, vb), pairSettings,
+                                   mirrorAtWalls ? BoundaryModel::Mirror : BoundaryModel::Extrapolated);
           aP += t.pressure;
           aV += fa * t.viscous;
           aA += t.artificial;

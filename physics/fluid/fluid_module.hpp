@@ -112,7 +112,7 @@ class FluidModule : public Module {
   }
   /// Every loop has a symmetric form for a half list (fluid_half.cpp) except the surface
   /// tension's (colour gradient, curvature, CSF), which needs the full list.
-  bool supportsHalfNeighbourList() const override { return gamma_ == 0.0; }
+  bool supportsHalfNeighbourList() const override { return gamma_ == 0.0 && !wallMirrorLight_; }  // CSF and light_mirror: full list
   /// `pair_precision: float`: the fluid-fluid pairs of the symmetric force loop in single precision.
   bool floatPairs() const { return floatPairs_; }
   /// Blocks and spill buffers of the symmetric loops (their allocations, for tests).
@@ -214,6 +214,8 @@ class FluidModule : public Module {
   ContinuityForm continuityForm_ = ContinuityForm::Volume;  // continuity_form (Eq. 5.1a / mass)
   bool acousticInterface_ = false;  // continuity_interface: acoustic (interfaceContinuityWeight)
   std::vector<double> ifaceWeight_;  // its weight per pair of materials (a * n + b), 1 when off
+  bool wallMirrorLight_ = false;    // wall_pressure: light_mirror (a lighter fluid's own pressure at walls)
+  std::vector<unsigned char> wallMirror_;  // ... per material: 1 for a fluid lighter than the heaviest
   double gamma_ = 0.0;              // surface tension coefficient (N/m)
   bool densityWeightedCsf_ = true;  // CSF weighting 2 rho_a / (rho_a + rho_b)
   bool balancedCsf_ = false;        // surface_tension_form: balanced (surface_tension.hpp)
