@@ -1,6 +1,10 @@
 // Extremes of the wetting model (issue 14, "Extremes": contact angles 10 and 170 degrees) on a
 // flat lattice-aligned wall, with the setting validated for 30-150 degrees
 // (test::kWettingGhostSettings). Scene: fluid_wetting_case.hpp (rectangle start, closed box).
+// And the water / gas pair (issue 14, Extremes: density ratio 1000 and viscosity ratio 100 "in
+// every case above where it applies"): the trapped bubble, the 60-degree sessile drop and the
+// capillary entry with a gas of density 1 (water 1000), viscosity 1/100 of the water's and the
+// water's bulk modulus (c_g = c_w sqrt(1000)), with the water / gas keys kWaterGasKeys below.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -10,6 +14,8 @@
 #include <ctime>
 #include <string>
 
+#include "tests/validation/fluid_capillary_entry_case.hpp"
+#include "tests/validation/fluid_trapped_bubble_case.hpp"
 #include "tests/validation/fluid_wetting_case.hpp"
 
 using namespace poresph;
@@ -120,4 +126,101 @@ TEST(FluidWettingExtremes, OneHundredSeventyDegreesFlatWall) {
   EXPECT_LT(lowest, s.dx);
   EXPECT_GT(r.halfBase, 0.0);
   EXPECT_NEAR(sum / n, 170.0, 10.0);
+}
+
+// The water / gas settings (issue 14; docs/fluid.md "Water and gas (density ratio 1000)"):
+// hu_adams (Eq. 5.2b throws the light gas off the water), the acoustic interface velocity in the
+// continuity (the light gas running into the water does not compress it), density diffusion, and
+// the walls' pressure for the gas its own (`wall_pressure: light_mirror`: with the walls'
+// extrapolated mixture the gas at a contact line is pulled into the wall).
+namespace {
+constexpr const char* kWaterGasKeys =
+    ", pressure_gradient: hu_adams, continuity_interface: acoustic, density_diffusion: 0.1, wall_pressure: light_mirror";
+constexpr double kGasRho = 1.0;
+const double kSqrt1000 = std::sqrt(1000.0);
+}  // namespace
+
+// The trapped bubble (FluidTrappedBubble.GasStaysInTheDeadEndPore at ratio 1: gas fraction in the
+// pore 1.0000, mass centre 0.0075 mm, water 0.0707 m/s at 50 ms) with the gas 1000x lighter
+// (c 63.2 m/s, 1e-4 Pa s). Without `wall_pressure: light_mirror` the gas particles at the pore
+// mouth's corners are pulled into the wall (2 of 100 outside the pore at 0.2 ms) and the run stops
+// on the density check at 1.9-2.4 ms. Asserted as at ratio 1, and the density variation < 5 %.
+TEST(FluidWaterGasExtremes, TrappedBubbleRatio1000StaysInThePore) {
+  test::Stopwatch clock;
+  test::Trapped tr(kGasRho, 2.0 * kSqrt1000, 1e-4, kWaterGasKeys);
+  const test::TrappedRun r = test::runTrapped(tr, 0.05);
+  tr.sim.checkFinite();
+  std::printf("ratio 1000: min gas fraction in pore %.4f, largest centre shift %.4f mm, U %.4f m/s, largest density "
+              "variation %.4f, %lld steps, %.1f s\n",
+              r.minIn, 1e3 * r.maxShift, r.uEnd, r.maxVar, static_cast<long long>(tr.sim.step), clock.seconds());
+  EXPECT_GE(r.minIn, 0.99);
+  EXPECT_LT(r.maxShift, 0.02e-3);
+  EXPECT_GT(r.uEnd, 0.04);
+  EXPECT_LT(r.maxVar, 0.05);
+  test::recordValidation({"fluid_trapped_bubble_2d_ratio1000",
+                          "least fraction of the gas mass inside the dead-end pore over 50 ms", r.minIn, 1.0, 1.0 - r.minIn,
+                          "dx = 0.1 mm: channel H = 20 dx, pore 10 x 10 dx, quintic h = dx, 60 deg walls, water 1000 / "
+                          "0.01 Pa s / 2 m/s, gas 1 / 1e-4 Pa s / 63.2 m/s, water / gas keys, " +
+                              std::to_string(tr.sim.step) + " steps",
+                          clock.seconds(), ">= 0.99, mass centre moves < 0.02 mm, water speed > 0.04 m/s, density < 5 %",
+                          "capillary trapping: leaving the pore needs 2 gamma / w = 100 Pa"});
+}
+
+// The 60-degree sessile drop of FluidWettingAngles (the validated setting, R0/dx 10, rectangle
+// start, water mu 0.01 Pa s) in a gas 1000x lighter, viscosity ratio 100: the angle's time mean
+// over [T/2, T] within the issue's 5 degrees (ratio 1: 61.51 over 60-120 ms), density variation
+// < 5 %.
+TEST(FluidWaterGasExtremes, SessileSixtyDegreesRatio1000) {
+  const double T = env("FLUID_TEND", 0.12);
+  test::GasPhase gp;
+  gp.rho = kGasRho, gp.c = 2.0 * kSqrt1000, gp.mu = 1e-4;
+  const auto r = test::runWettingAverage(60.0, 0.0, 10, T, 0.01, std::string(test::kWettingGhostSettings) + kWaterGasKeys,
+                                         0.005, 5.0, gp);
+  std::printf("ratio 1000, 60 degrees: mean %.2f (%.2f to %.2f), cap %.2f, largest density variation %.4f\n", r.mean,
+              r.lo, r.hi, r.cap, r.maxVar);
+  char res[260];
+  std::snprintf(res, sizeof res,
+                "2D flat lattice-aligned wall, R0/dx = 10, rectangle start, quintic h = dx, water 1000 / 0.01 Pa s / 2 m/s, "
+                "gas 1 / 1e-4 Pa s / 63.2 m/s, water / gas keys, mean over %.0f-%.0f ms (%.1f to %.1f), %lld steps",
+                500 * T, 1e3 * T, r.lo, r.hi, r.steps);
+  test::recordValidation({"fluid_wetting_flat_theta60_R10_ratio1000",
+                          "contact angle (degrees), circle fit above 2 dx, time mean", r.mean, 60.0,
+                          std::abs(r.mean - 60.0) / 60.0, res, r.wall, "|error| < 5 degrees, density < 5 %",
+                          "prescribed wall angle (Eq. 1.10), wetting: normal with ghost colour, wetting_scale 0.05"});
+  EXPECT_NEAR(r.mean, 60.0, 5.0);
+  EXPECT_NEAR(r.cap, 60.0, 10.0);
+  EXPECT_LT(r.maxVar, 0.05);
+}
+
+// Capillary entry (FluidCapillaryEntry at ratio 1: stays out at 0.9 f*, enters at 1.1 f*) with the
+// gas 1000x lighter: the loop's drive is carried by the water alone, f* (rho_w (Lx - Lg) + rho_g Lg)
+// = 2 gamma cos(theta) (1/w - 1/H) (f* = 6.06 m/s^2 against 4.17 at ratio 1). Asserted with the
+// ratio-1 test's criteria (the threshold within 10 %), density variation < 5 %.
+TEST(FluidWaterGasExtremes, CapillaryEntryRatio1000) {
+  const double gas[3] = {kGasRho, 2.0 * kSqrt1000, 1e-4};
+  const double T = env("FLUID_TEND", 0.08);
+  for (const double ratio : {0.9, 1.1}) {
+    const test::EntryResult r = test::runEntry(ratio, T, gas, kWaterGasKeys, "_ratio1000");
+    std::printf("ratio 1000, %.2f f* (f* = %.4g m/s^2): front %.3f w at T/2, %.3f w at T, density variation %.4f, %lld "
+                "steps, %.1f s\n",
+                ratio, r.threshold, r.frontHalf, r.frontEnd, r.maxVar, r.steps, r.wall);
+    char q[140];
+    std::snprintf(q, sizeof q, "gas front past the slit entrance / w at f = %.2f f* (%s), density ratio 1000", ratio,
+                  ratio < 1 ? "stays out" : "enters");
+    test::recordValidation({"fluid_capillary_entry_2d_ratio1000", q, r.frontEnd, 0.0, r.frontEnd,
+                            "dx = 0.1 mm: slit w = 10 dx, channel H = 30 dx, loop 80 dx, theta = 60 deg, quintic h = dx, "
+                            "water 1000 / 0.01 Pa s / 2 m/s, gas 1 / 1e-4 Pa s / 63.2 m/s, water / gas keys, t = 80 ms",
+                            r.wall,
+                            ratio < 1 ? "< 0.5 w and advance < 0.1 w, density < 5 %"
+                                      : "> 0.6 w and advance > 0.15 w, density < 5 %",
+                            "Young-Laplace entry 2 gamma cos(theta) (1/w - 1/H), the drive on the water only"});
+    EXPECT_LT(r.maxVar, 0.05);
+    if (ratio < 1) {
+      EXPECT_LT(r.frontEnd, 0.5);
+      EXPECT_LT(r.frontEnd - r.frontHalf, 0.1);
+    } else {
+      EXPECT_GT(r.frontEnd, 0.6);
+      EXPECT_GT(r.frontEnd - r.frontHalf, 0.15);
+    }
+  }
 }

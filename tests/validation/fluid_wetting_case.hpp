@@ -30,6 +30,12 @@
 
 namespace poresph::test {
 
+/// The surrounding fluid ("gas") when it is not the liquid's twin (issue 14, Extremes: density
+/// ratio 1000): density, sound speed, viscosity; 0 keeps the liquid's value.
+struct GasPhase {
+  double rho = 0.0, c = 0.0, mu = 0.0;
+};
+
 struct TiltedSessile {
   static constexpr double kPi = 3.14159265358979323846;
   Simulation sim{2};
@@ -41,7 +47,7 @@ struct TiltedSessile {
   int liquid = 0, gas = 1, wall = 2;
 
   TiltedSessile(double thetaDeg, double alphaDeg, double radius, int rOverDx, const std::string& extra = "",
-                double viscosity = 0.05, double halfWidth = 0.9, double boxLength = 5.0) {
+                double viscosity = 0.05, double halfWidth = 0.9, double boxLength = 5.0, const GasPhase& gp = {}) {
     namespace fs = poresph::fluidsetup;
     R0 = radius;
     mu = viscosity;
@@ -74,8 +80,8 @@ struct TiltedSessile {
     std::snprintf(buf, sizeof buf, "{density: %g, sound_speed: %g, viscosity: %g, colour: %d, background_pressure: %g}",
                   rho, c, mu, swap ? -1 : 1, pb);
     liquid = fs::addMaterial(sim, "liquid", "fluid", buf);
-    std::snprintf(buf, sizeof buf, "{density: %g, sound_speed: %g, viscosity: %g, colour: %d, background_pressure: %g}",
-                  rho, c, mu, swap ? 1 : -1, pb);
+    std::snprintf(buf, sizeof buf, "{density: %.9g, sound_speed: %.9g, viscosity: %.9g, colour: %d, background_pressure: %g}",
+                  gp.rho > 0 ? gp.rho : rho, gp.c > 0 ? gp.c : c, gp.mu > 0 ? gp.mu : mu, swap ? 1 : -1, pb);
     gas = fs::addMaterial(sim, "gas", "fluid", buf);
     std::snprintf(buf, sizeof buf, "{density: %g, contact_angle: %g}", rho, swap ? 180.0 - thetaDeg : thetaDeg);
     wall = fs::addMaterial(sim, "wall", "wall", buf);
@@ -248,21 +254,26 @@ inline constexpr const char* kWettingGhostSettings =
 
 struct WettingAverage {
   double mean = 0, lo = 1e300, hi = -1e300, cap = 0, wall = 0, cpu = 0;
+  double maxVar = 0;  // largest density variation |rho - rho0| / rho0 at the window's samples
   int samples = 0;
   long long steps = 0, particles = 0;
 };
 
 inline WettingAverage runWettingAverage(double thetaDeg, double alphaDeg, int rdx, double tEnd, double viscosity,
-                                        const std::string& extra = "", double every = 0.005, double boxLength = 5.0) {
+                                        const std::string& extra = "", double every = 0.005, double boxLength = 5.0,
+                                        const GasPhase& gp = {}) {
   const RunCost cost;
-  TiltedSessile s(thetaDeg, alphaDeg, 1.5e-3, rdx, extra, viscosity, 0.9, boxLength);
+  TiltedSessile s(thetaDeg, alphaDeg, 1.5e-3, rdx, extra, viscosity, 0.9, boxLength, gp);
   WettingAverage r;
   double rc = 0, sc = 0;
   int np = 0;
   s.stepper.runTo(s.sim, 0.5 * tEnd);
   const WindowMean w = sampleWindow(
       0.5 * tEnd, tEnd, every, [&](double t) { s.stepper.runTo(s.sim, t); },
-      [&](double) { return s.contactAngle(rc, sc, np); });
+      [&](double) {
+        r.maxVar = std::max(r.maxVar, s.fluid->maxDensityVariation());
+        return s.contactAngle(rc, sc, np);
+      });
   r.mean = w.mean, r.lo = w.lo, r.hi = w.hi, r.samples = w.samples;
   double H = 0, A = 0;
   r.cap = s.capAngle(H, A);
