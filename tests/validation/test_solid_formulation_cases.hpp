@@ -281,20 +281,13 @@ KirschResult runKirsch(double nu, int perRadius) {
   return res;
 }
 
-/// Runs Kirsch at three resolutions; asserts |K_t - 3| / 3 < tol at the finest and that K_t
-/// converges: it rises with resolution and its last change is smaller than the first by the
-/// factor the observed order `minOrder` implies (K_t tends to a limit about 3 % below Kirsch's 3
-/// with the quadratic extrapolation from the first three rings: docs/solid.md).
-template <int D>
-void checkKirsch(double nu, const std::vector<int>& perRadius, double tol, double minOrder = 1.0) {
-  std::vector<KirschResult> r;
-  std::vector<double> err;
-  for (int n : perRadius) {
-    r.push_back(runKirsch<D>(nu, n));
-    err.push_back(std::abs(r.back().kt - 3.0) / 3.0);
-    std::printf("Kirsch %dD nu = %.2f, %d per radius: K_t = %.3f (%.1f %%), %lld particles, %.1f s\n", D, nu, n,
-                r.back().kt, 100 * err.back(), static_cast<long long>(r.back().particles), r.back().wall);
-  }
+/// Observed order of the K_t increments of three resolutions (Richardson: d2 / d1 = (h1^p -
+/// h2^p) / (h0^p - h1^p), h = 1 / perRadius; 0 when the increments do not shrink) and the limit
+/// it extrapolates to.
+struct KirschOrder {
+  double order = 0.0, limit = 0.0;
+};
+inline KirschOrder kirschOrder(const std::vector<int>& perRadius, const std::vector<KirschResult>& r) {
   const double d1 = r[1].kt - r[0].kt, d2 = r[2].kt - r[1].kt;
   // observed order of the K_t increments (Richardson): d2 / d1 = (q^-p - 1) ... for n_k in a
   // geometric-like sequence; written for the actual resolutions with p from the three values
@@ -311,6 +304,26 @@ void checkKirsch(double nu, const std::vector<int>& perRadius, double tol, doubl
   const double o = ratio > 0.0 && ratio < model(0.01) ? 0.5 * (lo + hi) : 0.0;
   const double limit = r[2].kt + d2 * std::pow(1.0 / perRadius[2], o) /
                                       (std::pow(1.0 / perRadius[1], o) - std::pow(1.0 / perRadius[2], o) + 1e-300);
+  return {o, limit};
+}
+
+/// Runs Kirsch at three resolutions (returned); asserts |K_t - 3| / 3 < tol at the finest and that K_t
+/// converges: it rises with resolution and its last change is smaller than the first by the
+/// factor the observed order `minOrder` implies (K_t tends to a limit about 3 % below Kirsch's 3
+/// with the quadratic extrapolation from the first three rings: docs/solid.md).
+template <int D>
+std::vector<KirschResult> checkKirsch(double nu, const std::vector<int>& perRadius, double tol,
+                                      double minOrder = 1.0) {
+  std::vector<KirschResult> r;
+  std::vector<double> err;
+  for (int n : perRadius) {
+    r.push_back(runKirsch<D>(nu, n));
+    err.push_back(std::abs(r.back().kt - 3.0) / 3.0);
+    std::printf("Kirsch %dD nu = %.2f, %d per radius: K_t = %.3f (%.1f %%), %lld particles, %.1f s\n", D, nu, n,
+                r.back().kt, 100 * err.back(), static_cast<long long>(r.back().particles), r.back().wall);
+  }
+  const KirschOrder ko = kirschOrder(perRadius, r);
+  const double d1 = r[1].kt - r[0].kt, d2 = r[2].kt - r[1].kt, o = ko.order, limit = ko.limit;
   std::printf("  K_t increments %.4f, %.4f: observed order %.2f, Richardson limit %.3f\n", d1, d2, o, limit);
   const size_t f = r.size() - 1;
   for (size_t k = 0; k < r.size(); ++k) {
@@ -327,6 +340,7 @@ void checkKirsch(double nu, const std::vector<int>& perRadius, double tol, doubl
   EXPECT_GT(d1, 0.0) << D << "D nu = " << nu;
   EXPECT_GT(d2, 0.0) << D << "D nu = " << nu;
   EXPECT_GT(o, minOrder) << D << "D nu = " << nu;
+  return r;
 }
 
 }  // namespace poresph::solid::formulation_cases

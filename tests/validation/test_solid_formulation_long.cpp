@@ -1,6 +1,6 @@
 // Long part of the formulation study of issue 13 (label validation_long, tests/long-tests.txt):
-// Lame in 3D (slab periodic along z, 6 layers) at nu = 0.1 and 0.25 and Kirsch in 3D at
-// nu = 0.25, three resolutions each, and the 2D Kirsch at nu = 0.25. See test_solid_formulation.cpp.
+// Lame in 3D (slab periodic along z, 6 layers) at nu = 0.1 and 0.25, Kirsch in 3D at nu = 0.25
+// (against 2D) and at nu = 0.1 (three resolutions), and the 2D Kirsch at nu = 0.25. See test_solid_formulation.cpp.
 #include "tests/validation/test_solid_formulation_cases.hpp"
 
 using namespace poresph;
@@ -28,6 +28,38 @@ TEST(SolidFormulationLong, Kirsch3DMatches2DAtNu025) {
                             r3.wall, "< 8 %, within 1.5 % of the 2D K_t", "Kirsch (infinite plate)"});
     EXPECT_LT(err, 0.08);
     EXPECT_LT(diff, 0.015);
+  }
+}
+
+// Kirsch in 3D at nu = 0.1 (COx, thesis Table 5.1; issue 13: Lame and Kirsch converge in 2D and
+// 3D at nu = 0.1 and 0.25). The 3D case is the slab of 6 layers periodic along z: the plane-strain
+// problem computed with the 3D kernel, families and law, so its continuum reference is the
+// plane-strain one (K_t = 3 for the infinite plate), not a hole through a plate of finite
+// thickness with free faces (whose K_t varies through the thickness: not computed here).
+// Asserted as the 2D study (checkKirsch, 4 / 6 / 8 per radius): K_t within 5 % of 3 at the
+// finest, rising with resolution, observed order of its increments > 1; and the slab within
+// 1.5 % of the 2D K_t at each resolution (the 2D study rerun here). Measured 2026-11-28: 3D K_t
+// 2.836 / 2.886 / 2.899 (5.5 / 3.8 / 3.4 % from 3), increments 0.049 / 0.013, observed order 2.81,
+// Richardson limit 2.909 (2D: 2.905); 3D - 2D 0.64 / 0.50 / 0.18 %; 303 s CPU (28 368 particles
+// at 8 per radius), 24 min wall at 20 % of a loaded core.
+TEST(SolidFormulationLong, Kirsch3DConvergesAtNu010) {
+  const std::vector<int> n = {4, 6, 8};
+  const std::vector<KirschResult> r2 = checkKirsch<2>(0.1, n, 0.05);
+  const std::vector<KirschResult> r3 = checkKirsch<3>(0.1, n, 0.05);
+  const KirschOrder o2 = kirschOrder(n, r2), o3 = kirschOrder(n, r3);
+  std::printf("Kirsch nu = 0.10: Richardson limit 3D %.4f (order %.2f), 2D %.4f (order %.2f)\n", o3.limit, o3.order,
+              o2.limit, o2.order);
+  for (size_t k = 0; k < n.size(); ++k) {
+    const double diff = std::abs(r3[k].kt - r2[k].kt) / r2[k].kt;
+    std::printf("Kirsch nu = 0.10, %d per radius: 3D K_t = %.4f, 2D %.4f, difference %.2f %%, 3D %lld particles, "
+                "%.1f s\n",
+                n[k], r3[k].kt, r2[k].kt, 100 * diff, static_cast<long long>(r3[k].particles), r3[k].wall);
+    test::recordValidation({"solid_tl_kirsch_3d_nu010_" + std::to_string(n[k]), "|K_t(3D slab) - K_t(2D)| / K_t(2D)",
+                            diff, 0.0, diff,
+                            "hole radius " + std::to_string(n[k]) +
+                                " dx, rings to 2 a, W = 8 a, h = 1.3 dx, 3D slab of 6 layers periodic along z",
+                            r3[k].wall + r2[k].wall, "< 1.5 %", "the same plane-strain problem in 2D"});
+    EXPECT_LT(diff, 0.015) << n[k] << " per radius";
   }
 }
 
