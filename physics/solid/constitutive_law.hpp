@@ -19,6 +19,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "libcore/parameters.hpp"
@@ -186,6 +187,15 @@ class ConstitutiveLaw {
     const double gd = g(dmg);
     const double tr = eps.trace();
     if (splitType == EnergySplit::Spectral) {
+      if (gd == 1.0) {
+        // undamaged (g(0) = 1 for every law): sum_k 2 mu e_k n_k n_k^T = 2 mu eps, so the split
+        // cannot matter and the eigenproblem is skipped (equal to round-off of the eigenvectors;
+        // docs/performance.md "The rock scene's step"). The damage criterion's principal values
+        // are solved in update(), at the commit, not here.
+        Mat<D> s = 2.0 * mu * eps;
+        s.diagonal().array() += lambda * tr;
+        return s;
+      }
       Mat<D> s = Mat<D>::Zero();
       if constexpr (D == 1) {
         s(0, 0) = 2.0 * mu * eps(0, 0) * (eps(0, 0) > 0.0 ? gd : 1.0);
@@ -255,6 +265,47 @@ class ConstitutiveLaw {
     r.psiPlus = psiPlus(s);
     r.released = (g(D0) - g(r.D)) * r.psiPlus;
     return r;
+  }
+
+  /// True when the commit at this strain can change neither D nor a history value above its
+  /// onset (Rankine/Mohr-Coulomb in 3D): Gershgorin bounds of the principal strains,
+  /// e_1 <= max_i (eps_ii + sum_{j!=i} |eps_ij|), e_3 >= min_i (eps_ii - sum_{j!=i} |eps_ij|),
+  /// bound both equivalent strains of update() from above; where each bound (with a margin far
+  /// above the round-off of the eigenvalues) is at most max(history, onset), update() would
+  /// return D0 bit for bit (D0 at least the damage of the histories, as after every commit), so
+  /// its eigenproblem is not needed. Only the history values below
+  /// the onset (which enter nothing) and psi+ are then not refreshed (docs/performance.md).
+  template <int D>
+  bool commitCannotChange(const Mat<D>& eps, double D0, const double* history) const {
+    if constexpr (D != 3) {
+      return false;
+    } else {
+      if (type != DamageLawType::RankineMohrCoulomb) return false;
+      // D0 already holds what the histories ask for (always so after a commit; checked, cheap)
+      if (!(D0 <= limit) || !(std::max(linearSoftening(history[0], epsT0, epsTu),
+                                       linearSoftening(history[1], epsC0, epsCu)) <= D0))
+        return false;
+      double up = -std::numeric_limits<double>::infinity(), lo = -up, norm2 = 0.0;
+      for (int i = 0; i < 3; ++i) {
+        double r = 0.0;
+        for (int j = 0; j < 3; ++j) {
+          norm2 += eps(i, j) * eps(i, j);
+          if (j != i) r += std::abs(eps(i, j));
+        }
+        up = std::max(up, eps(i, i) + r);
+        lo = std::min(lo, eps(i, i) - r);
+      }
+      const double tr = eps.trace();
+      // margin: 1e-9 of the largest term (the eigenvalues are good to ~1e-15 of |eps|)
+      const double margin = 1e-9 * (std::abs(lambda) * std::abs(tr) + 2.0 * mu * std::sqrt(norm2) + 1e-300) / young;
+      const double tensile = tensileMeasure == TensileMeasure::Stress
+                                 ? (lambda * tr + 2.0 * mu * up) / young
+                                 : up;
+      if (!(tensile + margin <= std::max(history[0], epsT0))) return false;
+      const double s1 = lambda * tr + 2.0 * mu * up, s3 = lambda * tr + 2.0 * mu * lo;
+      const double mc = ((s1 - s3) + (s1 + s3) * sinPhi) / ((1.0 - sinPhi) * young);
+      return mc + 4.0 * margin / (1.0 - sinPhi) <= std::max(history[1], epsC0);
+    }
   }
 
   /// Damage of a linear softening of the equivalent stress E kappa from its onset kappa0 to zero

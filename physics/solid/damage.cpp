@@ -31,11 +31,16 @@ namespace poresph::solid {
 // (r_ab = x_ab - (F_a + F_b)/2 X_ab; half of each pair's energy 1/2 c_ab |r_ab|^2 changes with
 // a's share; docs/damage.md "Hourglass control under damage").
 // `damage_commit: step_end` (the default): the commit after the integrator finished the step,
-// from the strain at x^{n+1} (TL recomputes F there; the small-strain forms use the strain of the
-// last evaluation). a^{n+1} was evaluated with D^n and acts with it for the next half kick.
+// from the strain at x^{n+1} (TL: F there, the evaluation's own F when the solid has not moved
+// since; the small-strain forms use the strain of the last evaluation). a^{n+1} was evaluated with D^n and acts with it for the next half kick.
 void ElasticSolidModule::endOfStep(Simulation& sim, double /*dt*/) {
   if (!anyDamage_ || commitAtEvaluation_) return;
-  if (formulation_ == Formulation::TotalLagrangian) kinematics(sim);  // F at x^{n+1} (2.67)
+  if (formulation_ == Formulation::TotalLagrangian) {  // F at x^{n+1} (2.67)
+    // the evaluation's F when the solid has not moved since (elastic_solid.cpp, kinematics)
+    reuseDeformationGradient_ = true;
+    kinematics(sim);
+    reuseDeformationGradient_ = false;
+  }
   dispatchDimension(sim.dimension(), [&](auto d) { commitDamageDim<decltype(d)::value>(sim); });
 }
 
@@ -83,6 +88,9 @@ void ElasticSolidModule::commitDamageDim(Simulation& sim) {
     double local[kDamageHistory] = {0.0, 0.0};
     double* h = hist ? hist + i * kDamageHistory : local;
     const double d0 = dmg[i];
+    // step_end commit (phi is read only by the evaluation commit): skip the eigenproblem where
+    // the criterion cannot move D (constitutive_law.hpp commitCannotChange; D bit for bit)
+    if (!commitAtEvaluation_ && hist && law.commitCannotChange<D>(E, d0, h)) continue;
     const DamageUpdate u = law.update<D>(E, d0, h);
     dmg[i] = u.D;
     double phiNow = u.psiPlus;  // psi+ of E (the split update() made)

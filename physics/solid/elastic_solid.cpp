@@ -732,6 +732,32 @@ void ElasticSolidModule::initialiseDim(Simulation& sim) {
     }
     hourglassOmega2_ = w2;
   }
+  // family_storage fast, conservative hourglass control: the reference-state factor
+  // W(|X_ab|) / |X_ab|^2 per member, computed as the pass computed it per member before (the same
+  // minimum image, norm and kernel); 8 B per member (docs/performance.md "The rock scene's step")
+  famHgW_.clear();
+  if (anyHourglass_ && hourglassConservative_ && !compactFamily_) {
+    famHgW_.assign(members, 0.0);
+    double* hw = famHgW_.data();
+    const double* Xr = s.data(refPos_);
+    W.withFixedType<D>([&](const auto K) {
+#pragma omp parallel for schedule(static) if (nm > 512)
+      for (Index k = 0; k < nm; ++k) {
+        const Index i = mine[static_cast<size_t>(k)];
+        const Vec<D> Xi = Eigen::Map<const Vec<D>>(Xr + i * D);
+        for (std::int64_t q = off[k]; q < off[k + 1]; ++q) {
+          const Index j = mine[static_cast<size_t>(fam[q])];  // fam holds b until the pass below
+          Vec<D> Xji = Eigen::Map<const Vec<D>>(Xr + j * D) - Xi;
+          for (int a = 0; a < D; ++a) {
+            const double L = period_[static_cast<size_t>(a)];
+            if (L > 0.0 && std::abs(Xji[a]) >= 0.25 * L) Xji[a] -= L * std::round(Xji[a] / L);
+          }
+          const double r0 = Xji.norm();
+          hw[q] = K.value(r0) / (r0 * r0);
+        }
+      }
+    });
+  }
 #pragma omp parallel for schedule(static) if (nm > 512)
   for (Index k = 0; k < nm; ++k)
     for (std::int64_t q = off[k]; q < off[k + 1]; ++q)
@@ -819,7 +845,54 @@ void ElasticSolidModule::kinematics(Simulation& sim) {
                        fmt(limit) + " s (thesis Eq. 2.50, h = " + fmt(solidKernel(sim).h()) +
                        " m); reduce dt or let the run choose it (adaptive stepping)");
   }
+  // The step_end damage commit (damage.cpp) asks for F at x^{n+1}; the evaluation of the step
+  // computed it there already unless something moved the solid since (a module's endOfStep, a
+  // reorder): F is a function of the solid's positions only, so when they and the particle order
+  // are the same bit for bit, F, the strain and the displacements of that evaluation are kept.
+  if (reuseDeformationGradient_ && fValid_ && formulation_ == Formulation::TotalLagrangian &&
+      sameSolidPositions(sim)) {
+    ++fSkipped_;
+    return;
+  }
   dispatchDimension(sim.dimension(), [&](auto d) { kinematicsDim<decltype(d)::value>(sim); });
+  if (formulation_ == Formulation::TotalLagrangian && anyDamage_ && !commitAtEvaluation_)
+    recordSolidPositions(sim);
+}
+
+// Positions of this module's particles (packed in store order) and the ids of every real
+// particle, at the last F (the reuse above).
+void ElasticSolidModule::recordSolidPositions(const Simulation& sim) {
+  const ParticleStore& s = sim.store;
+  const Index n = s.realCount();
+  const int d = sim.dimension();
+  const std::int32_t* mat = s.data(s.material());
+  const double* x = s.data(s.position());
+  const std::int32_t* ids = s.data(s.id());
+  fIds_.assign(ids, ids + n);
+  fPositions_.clear();
+  for (Index i = 0; i < n; ++i)
+    if (slotOf(mat[i]) >= 0) fPositions_.insert(fPositions_.end(), x + i * d, x + (i + 1) * d);
+  fValid_ = true;
+}
+
+bool ElasticSolidModule::sameSolidPositions(const Simulation& sim) const {
+  const ParticleStore& s = sim.store;
+  const Index n = s.realCount();
+  const int d = sim.dimension();
+  if (static_cast<size_t>(n) != fIds_.size() ||
+      std::memcmp(fIds_.data(), s.data(s.id()), sizeof(std::int32_t) * static_cast<size_t>(n)) != 0)
+    return false;
+  const std::int32_t* mat = s.data(s.material());
+  const double* x = s.data(s.position());
+  size_t at = 0;
+  for (Index i = 0; i < n; ++i) {
+    if (slotOf(mat[i]) < 0) continue;
+    if (at + static_cast<size_t>(d) > fPositions_.size() ||
+        std::memcmp(fPositions_.data() + at, x + i * d, sizeof(double) * static_cast<size_t>(d)) != 0)
+      return false;
+    at += static_cast<size_t>(d);
+  }
+  return at == fPositions_.size();
 }
 
 template <int D>
@@ -1119,6 +1192,7 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
       double* Q = hgScratch_.data();
       double* fd = Q + static_cast<size_t>(n) * D * D;
       double* phi = s.data(hgEnergy_);
+      const double* hgW = famHgW_.empty() ? nullptr : famHgW_.data();
       W.withFixedType<D>([&](const auto K) {  // the kernel type fixed for the member loop
 #pragma omp parallel for schedule(static) if (n > 512)
       for (Index i = 0; i < n; ++i) {
@@ -1140,8 +1214,13 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
           if (kab == 0.0) continue;
           const Vec<D> Xji = minimumImage(Vec<D>(Eigen::Map<const Vec<D>>(X + j * D) - Xi));
           const Vec<D> xji = minimumImage(Vec<D>(Eigen::Map<const Vec<D>>(x + j * D) - xi));
-          const double r0 = Xji.norm();
-          const double c = kab * V0[j] * K.value(r0) / (r0 * r0);
+          double c;
+          if (hgW) {
+            c = kab * V0[j] * hgW[q];  // W0_ab / |X_ab|^2 stored (family_storage fast)
+          } else {
+            const double r0 = Xji.norm();
+            c = kab * V0[j] * K.value(r0) / (r0 * r0);
+          }
           const Vec<D> res = xji - 0.5 * (Fi + Eigen::Map<const Mat<D>>(Fg + j * D * D)) * Xji;
           M.noalias() += c * res * Xji.transpose();
           direct.noalias() += c * res;
@@ -1387,15 +1466,23 @@ double ElasticSolidModule::deferredBytesPerParticle(
     if (slotOf(static_cast<int>(id)) >= 0) mine += static_cast<double>(particlesPerMaterial[id]);
   }
   const double share = all > 0.0 ? mine / all : 1.0;
+  // (fast with the conservative hourglass control: + W0_ab / |X_ab|^2, one double)
   const double perMember = compactFamily_
                                ? 2.0 * sizeof(std::int32_t) + d * sizeof(double)
-                               : sizeof(std::int32_t) + 2.0 * d * sizeof(double);
-  return share * (members * perMember + sizeof(std::int64_t)) + sizeof(std::int32_t);
+                               : sizeof(std::int32_t) + 2.0 * d * sizeof(double) +
+                                     (anyHourglass_ && hourglassConservative_ ? sizeof(double) : 0.0);
+  // step_end damage commit: the copy of the solid positions and of the ids at the last F
+  // (kinematics, the commit's reuse of F)
+  const double reuse = anyDamage_ && !commitAtEvaluation_
+                           ? share * d * sizeof(double) + sizeof(std::int32_t) : 0.0;
+  return share * (members * perMember + sizeof(std::int64_t)) + sizeof(std::int32_t) + reuse;
 }
 
 std::uint64_t ElasticSolidModule::heldBytes() const {
   return famOffset_.size() * sizeof(std::int64_t) + famIds_.size() * sizeof(std::int32_t) +
-         famRevSlot_.size() * sizeof(std::int32_t) + (famG_.size() + famGR_.size()) * sizeof(double);
+         famRevSlot_.size() * sizeof(std::int32_t) +
+         (famG_.size() + famGR_.size() + famHgW_.size() + fPositions_.capacity()) * sizeof(double) +
+         fIds_.capacity() * sizeof(std::int32_t);
 }
 
 double ElasticSolidModule::timeStepLimit(const Simulation& sim) const {

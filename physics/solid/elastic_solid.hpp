@@ -241,7 +241,23 @@ class ElasticSolidModule : public Module {
   std::vector<std::int64_t> famOffset_;
   std::vector<std::int32_t> famIds_, famRevSlot_;
   std::vector<double> famG_, famGR_;
+  /// family_storage fast with the conservative hourglass control: the reference-state factor
+  /// W(|X_ab|) / |X_ab|^2 of each member (constant: reference positions), 8 B per member, so
+  /// the hourglass pass takes no sqrt and no kernel per member (docs/performance.md).
+  std::vector<double> famHgW_;
   bool compactFamily_ = false;
+  /// Positions (and ids) at the last TL deformation gradient: the step_end damage commit skips
+  /// recomputing F when the solid has not moved since the evaluation (the same F bit for bit).
+  std::vector<double> fPositions_;
+  std::vector<std::int32_t> fIds_;
+  bool fValid_ = false, reuseDeformationGradient_ = false;
+  std::int64_t fSkipped_ = 0;
+  void recordSolidPositions(const Simulation& sim);
+  bool sameSolidPositions(const Simulation& sim) const;
+ public:
+  /// step_end commits that found F of the evaluation still current (tests, docs).
+  std::int64_t deformationGradientReuses() const { return fSkipped_; }
+ private:
   RealField densityRate_, xsph_;
   CorrectionFields corrFields_;
   NeighbourList solidNeighbours_;
