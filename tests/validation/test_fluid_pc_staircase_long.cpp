@@ -1,4 +1,4 @@
-// Validation (label `validation_long`, ~9 min CPU on the loaded machine; issue 14, drainage
+// Validation (label `validation_long`, 996 s wall at one thread on the loaded machine; issue 14, drainage
 // item 2 = D2): gas pushed into three parallel slits of widths w, 2w, 3w by a SLOWLY INCREASING
 // drive; each slit drained in order (3w, 2w, w) at its Young-Laplace threshold, and the
 // capillary-pressure / saturation curve against the closed-form staircase (docs/fluid.md
