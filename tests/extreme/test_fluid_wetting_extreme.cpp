@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <ctime>
 #include <string>
+#include <vector>
 
 #include "tests/validation/fluid_capillary_entry_case.hpp"
 #include "tests/validation/fluid_trapped_bubble_case.hpp"
@@ -199,11 +200,20 @@ TEST(FluidWaterGasExtremes, SessileSixtyDegreesRatio1000) {
 // gas 1000x lighter: the loop's drive is carried by the water alone, f* (rho_w (Lx - Lg) + rho_g Lg)
 // = 2 gamma cos(theta) (1/w - 1/H) (f* = 6.06 m/s^2 against 4.17 at ratio 1). Asserted with the
 // ratio-1 test's criteria (the threshold within 10 %), density variation < 5 %.
+// Measured (2026-11-28, 202,510 steps per drive, 606 / 404 s wall at load ~5-8): 0.9 f* front
+// 0.500 / 0.598 w at 40 / 80 ms (stalled: 0.018 w over the last 20 ms, but past 0.5 w: FAILS the
+// "stays out" bound; ratio 1: 0.288 w), 1.1 f* 0.818 / 1.313 w (enters; ratio 1: 0.75 w), density
+// <= 1.35 %. The failure is the issue's requirement not met at ratio 1000 (docs/fluid.md "Water
+// and gas (density ratio 1000)"), kept as the spec's check.
 TEST(FluidWaterGasExtremes, CapillaryEntryRatio1000) {
   const double gas[3] = {kGasRho, 2.0 * kSqrt1000, 1e-4};
   const double T = env("FLUID_TEND", 0.08);
-  for (const double ratio : {0.9, 1.1}) {
-    const test::EntryResult r = test::runEntry(ratio, T, gas, kWaterGasKeys, "_ratio1000");
+  // probe hooks: FLUID_ENTRY_ONE (run this drive only), FLUID_WG_KEYS (instead of kWaterGasKeys)
+  const std::string keys = std::getenv("FLUID_WG_KEYS") ? std::getenv("FLUID_WG_KEYS") : kWaterGasKeys;
+  const std::vector<double> drives = std::getenv("FLUID_ENTRY_ONE") ? std::vector<double>{env("FLUID_ENTRY_ONE", 0.9)}
+                                                                     : std::vector<double>{0.9, 1.1};
+  for (const double ratio : drives) {
+    const test::EntryResult r = test::runEntry(ratio, T, gas, keys, "_ratio1000");
     std::printf("ratio 1000, %.2f f* (f* = %.4g m/s^2): front %.3f w at T/2, %.3f w at T, density variation %.4f, %lld "
                 "steps, %.1f s\n",
                 ratio, r.threshold, r.frontHalf, r.frontEnd, r.maxVar, r.steps, r.wall);
