@@ -62,8 +62,8 @@ static void checkKirsch3DAgainst2D(double nu, double tol2D, double tol3D) {
 }
 
 // Measured 2026-11-28: 3D K_t 2.836 / 2.886 / 2.899 (5.5 / 3.8 / 3.4 % from 3; own increments
-// 0.049 / 0.013, order 2.81), from the 2D limit 2.905: 0.068 / 0.019 / 0.006 (orders 3.2, 3.9);
-// 3D - 2D 0.64 / 0.50 / 0.18 %; 303 s CPU (28 368 particles at 8 per radius).
+// 0.049 / 0.013, order 2.81), from the 2D limit 2.905: 0.068 / 0.019 / 0.006 (orders 3.2, 4.0);
+// 3D - 2D 0.64 / 0.50 / 0.18 %; 303 s CPU (28 368 particles at 8 per radius), 325 s on one core.
 TEST(SolidFormulationLong, Kirsch3DConvergesAtNu010) { checkKirsch3DAgainst2D(0.1, 0.05, 0.05); }
 
 // Measured 2026-11-28: 2D 2.812 / 2.851 / 2.863 (< 6 %, limit 2.874); 3D 2.796 / 2.830 / 2.855
