@@ -7,6 +7,9 @@
 //                     IEEE float64 little endian or int32 little endian
 //   /integrator/<entry>  Integrator::saveState (rates and the scheme's state, by particle id)
 //   /modules/<module>/<entry>  Module::saveState of each module that has one: 1D float64
+//   /settings         one string attribute per resolved setting of the run (name: the setting's
+//                     key, e.g. fluid.pressure_gradient; Module::settings), compared on restart
+//                     by runner.cpp; absent from checkpoints written before 2026-11-28
 #include "libcore/checkpoint.hpp"
 
 #include <hdf5.h>
@@ -134,13 +137,6 @@ void writeModuleStates(const Simulation& sim, hid_t file, const std::string& pat
   }
 }
 
-/// A module state entry whose name starts with "setting_" records a setting the run used (e.g.
-/// the fluid's resolved `pressure_gradient`, whose default changed on 2026-11-27), not state
-/// the restart needs: a checkpoint written before the module recorded it hands the entry back
-/// with no values, and the module decides (keep its configured value, warn). Every other entry
-/// is required.
-bool isSettingEntry(const std::string& name) { return name.rfind("setting_", 0) == 0; }
-
 /// Reads every module's state (checked: same entries and lengths as the module's own state)
 /// before anything is restored; returns one state per module (empty for modules without one).
 std::vector<ModuleState> readModuleStates(const Simulation& sim, hid_t file,
@@ -155,25 +151,13 @@ std::vector<ModuleState> readModuleStates(const Simulation& sim, hid_t file,
     const std::string where = "modules/" + m->name();
     const bool hasGroup = H5Lexists(file, "modules", H5P_DEFAULT) > 0 &&
                           H5Lexists(file, where.c_str(), H5P_DEFAULT) > 0;
-    bool onlySettings = true;
-    for (const auto& entry : expected) onlySettings = onlySettings && isSettingEntry(entry.first);
-    if (!hasGroup && onlySettings) {  // written before the module recorded its settings
-      for (auto& entry : expected) entry.second.clear();
-      out.push_back(std::move(expected));
-      continue;
-    }
     if (!hasGroup)
       fail(path, "the state of module '" + m->name() + "' (group '" + where +
                      "') is missing from the file");
     Handle group(H5Gopen2(file, where.c_str(), H5P_DEFAULT), H5Gclose);
     for (auto& [name, values] : expected) {
-      if (H5Lexists(group, name.c_str(), H5P_DEFAULT) <= 0) {
-        if (isSettingEntry(name)) {
-          values.clear();
-          continue;
-        }
+      if (H5Lexists(group, name.c_str(), H5P_DEFAULT) <= 0)
         fail(path, "module state '" + where + "/" + name + "' is missing from the file");
-      }
       Handle set(H5Dopen2(group, name.c_str(), H5P_DEFAULT), H5Dclose);
       Handle space(H5Dget_space(set), H5Sclose);
       const hssize_t n = H5Sget_simple_extent_npoints(space);
@@ -190,13 +174,65 @@ std::vector<ModuleState> readModuleStates(const Simulation& sim, hid_t file,
   return out;
 }
 
+/// The run's settings (ModuleSetting) as string attributes of the group /settings.
+void writeSettings(hid_t file, const ModuleSettings& settings, const std::string& path) {
+  Handle group(H5Gcreate2(file, "settings", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
+  if (group < 0) fail(path, "cannot create group 'settings'");
+  for (const ModuleSetting& s : settings) {
+    if (H5Aexists(group, s.key.c_str()) > 0) continue;  // one value per key (the first)
+    Handle strType(H5Tcopy(H5T_C_S1), H5Tclose);
+    H5Tset_size(strType, s.value.size() + 1);  // with the terminating zero: "" is allowed
+    H5Tset_strpad(strType, H5T_STR_NULLTERM);
+    writeAttr(group, s.key.c_str(), strType, strType, s.value.c_str(), 1, path);
+  }
+}
+
+herr_t collectAttrName(hid_t, const char* name, const H5A_info_t*, void* out) {
+  static_cast<std::vector<std::string>*>(out)->emplace_back(name);
+  return 0;
+}
+
+/// The string value of attribute `name` of `loc` ("" if it cannot be read).
+std::string readStringAttr(hid_t loc, const char* name) {
+  Handle attr(H5Aopen(loc, name, H5P_DEFAULT), H5Aclose);
+  if (attr < 0) return "";
+  Handle type(H5Aget_type(attr), H5Tclose);
+  const size_t size = H5Tget_size(type);
+  if (size == 0 || H5Tget_class(type) != H5T_STRING) return "";
+  std::string got(size, '\0');
+  Handle memType(H5Tcopy(H5T_C_S1), H5Tclose);
+  H5Tset_size(memType, size);
+  if (H5Aread(attr, memType, got.data()) < 0) return "";
+  const size_t end = got.find('\0');
+  if (end != std::string::npos) got.resize(end);
+  return got;
+}
+
 }  // namespace
+
+CheckpointRecord readCheckpointRecord(const std::string& path) {
+  QuietHdf5 quiet;
+  CheckpointRecord r;
+  if (H5Fis_hdf5(path.c_str()) <= 0) return r;
+  Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  if (file < 0) return r;
+  if (H5Aexists(file, "scene_signature") > 0) r.signature = readStringAttr(file, "scene_signature");
+  if (H5Lexists(file, "settings", H5P_DEFAULT) <= 0) return r;
+  Handle group(H5Gopen2(file, "settings", H5P_DEFAULT), H5Gclose);
+  if (group < 0) return r;
+  r.hasSettings = true;
+  std::vector<std::string> names;
+  H5Aiterate2(group, H5_INDEX_NAME, H5_ITER_INC, nullptr, collectAttrName, &names);
+  for (const auto& name : names) r.settings.emplace_back(name, readStringAttr(group, name.c_str()));
+  return r;
+}
 
 namespace {
 
 // Writes the checkpoint into `target`; errors name `path`, the checkpoint the user asked for.
 void writeCheckpointInto(const std::string& target, const Simulation& sim, const std::string& path,
-                         const std::string& signature, const ModuleState* integratorState) {
+                         const std::string& signature, const ModuleState* integratorState,
+                         const ModuleSettings* settings) {
   QuietHdf5 quiet;
   const ParticleStore& s = sim.store;
   Handle file(H5Fcreate(target.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
@@ -248,6 +284,14 @@ void writeCheckpointInto(const std::string& target, const Simulation& sim, const
     if (rc < 0) fail(path, "cannot write field '" + spec.name + "'");
   }
   writeModuleStates(sim, file, path);
+  if (settings) {
+    writeSettings(file, *settings, path);
+  } else {
+    ModuleSettings all;
+    for (const auto& m : sim.modules)
+      for (ModuleSetting& st : m->settings()) all.push_back(std::move(st));
+    writeSettings(file, all, path);
+  }
   if (integratorState && !integratorState->empty())
     writeStateGroup(file, "integrator", *integratorState, path);
   if (H5Fflush(file, H5F_SCOPE_GLOBAL) < 0) fail(path, "cannot flush the file");
@@ -256,13 +300,14 @@ void writeCheckpointInto(const std::string& target, const Simulation& sim, const
 }  // namespace
 
 void writeCheckpoint(const Simulation& sim, const std::string& path,
-                     const std::string& signature, const ModuleState* integratorState) {
+                     const std::string& signature, const ModuleState* integratorState,
+                     const ModuleSettings* settings) {
   // Written beside the old one and renamed over it once complete (rename is atomic on POSIX
   // file systems): a run killed while writing (SIGKILL, a lost machine) keeps the previous
   // checkpoint instead of a truncated file. Periodic checkpoints rely on it (docs/output.md).
   const std::string part = path + ".part";
   try {
-    writeCheckpointInto(part, sim, path, signature, integratorState);
+    writeCheckpointInto(part, sim, path, signature, integratorState, settings);
   } catch (...) {
     std::error_code ignored;
     std::filesystem::remove(part, ignored);

@@ -50,6 +50,29 @@ struct Material {
 /// /modules/<module name>/<entry name> and handed back on restart and on the health rollback.
 using ModuleState = std::vector<std::pair<std::string, std::vector<double>>>;
 
+/// One resolved setting of a module: its value after the defaults were applied (e.g. the fluid's
+/// pressure gradient, a solid material's formulation or damage law). The runner records every
+/// module's settings in each checkpoint (group /settings) and compares them on restart, key by
+/// key: a difference, typed in the scene or a default that changed between the binary that
+/// wrote the checkpoint and this one, refuses the restart naming the key and both values
+/// (libcore/runner.cpp restoreCheckpoint; docs/output.md "Restart and changed defaults").
+struct ModuleSetting {
+  /// Where the scene sets it, dotted: "<section>.<key>" (fluid.pressure_gradient) or
+  /// "materials.<material name>.<key>[.<key>]" (materials.clay.damage.law). The scene
+  /// signature leaves these keys out: their resolved values are compared instead.
+  std::string key;
+  std::string value;  ///< the resolved value as text (a choice's name, a number with %.17g)
+  /// For a checkpoint written before settings were recorded (2026-11-28): the value a scene
+  /// without the key then ran with ("" if not known). Such a checkpoint is still restarted by
+  /// its scene with the key added at this value; one whose scene leaves the key out while
+  /// this value differs from `value` gets a warning.
+  std::string formerDefault = {};
+  std::string formerDefaultNote = {};  ///< when formerDefault held, e.g. "until 2026-11-27"
+};
+using ModuleSettings = std::vector<ModuleSetting>;
+/// A number as a ModuleSetting value (%.17g: equal doubles give equal text).
+std::string settingNumber(double v);
+
 class Module {
  public:
   virtual ~Module() = default;
@@ -89,6 +112,9 @@ class Module {
   /// when a checkpoint is read or a failed step is rolled back.
   virtual ModuleState saveState() const { return {}; }
   virtual void restoreState(const ModuleState& state) {}
+  /// The module's main numerical settings as configure() resolved them (ModuleSetting), keys
+  /// the scene leaves out with their defaults; empty by default.
+  virtual ModuleSettings settings() const { return {}; }
 
   /// Bytes per particle (averaged over all the scene's particles) of what this module allocates
   /// only in initialise(), once the particles exist (e.g. the Total-Lagrangian reference family,

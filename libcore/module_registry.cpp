@@ -1,8 +1,15 @@
+#include <cstdio>
 #include <map>
 
 #include "libcore/module.hpp"
 
 namespace poresph {
+
+std::string settingNumber(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
 
 namespace {
 std::map<std::string, ModuleRegistry::Factory>& registry() {

@@ -84,67 +84,186 @@ std::string fnv1a(const std::string& text) {
 
 }  // namespace
 
-std::string sceneSignature(const Scene& scene) {
-  // What must not change between a run and its restart: the physics and the geometry. The
-  // clock (end_time, max_steps, time_step), the output cadence and the health limits may.
+namespace {
+
+const char* const kClockKeys[] = {"end_time", "max_steps", "time_step", "output", "health"};
+
+std::vector<std::string> splitKey(const std::string& key) {
+  std::vector<std::string> parts;
+  std::string part;
+  std::istringstream in(key);
+  while (std::getline(in, part, '.')) parts.push_back(part);
+  return parts;
+}
+
+/// The node a setting key names in the resolved scene (ModuleSetting::key: "<section>.<key>",
+/// "materials.<name>.<key>[.<key>]"; a list is entered by its entry's `name`), or an invalid node.
+YAML::Node findKey(const YAML::Node& root, const std::vector<std::string>& parts) {
+  // Handles are rebound with reset(): assigning a YAML::Node would overwrite the node it holds.
+  YAML::Node node;
+  node.reset(root);
+  for (const std::string& part : parts) {
+    YAML::Node next;
+    bool found = false;
+    if (node.IsSequence()) {
+      for (const YAML::Node& item : node)
+        if (item.IsMap() && item["name"] && item["name"].IsScalar() &&
+            item["name"].Scalar() == part) {
+          next.reset(item);
+          found = true;
+          break;
+        }
+    } else if (node.IsMap()) {
+      for (const auto& kv : node)
+        if (kv.first.IsScalar() && kv.first.Scalar() == part) {
+          next.reset(kv.second);
+          found = true;
+          break;
+        }
+    }
+    if (!found) return YAML::Node(YAML::NodeType::Undefined);
+    node.reset(next);
+  }
+  return node;
+}
+
+bool sceneSetsKey(const Scene& scene, const std::string& key) {
+  const YAML::Node n = findKey(scene.resolved, splitKey(key));
+  return n.IsDefined() && !n.IsNull();
+}
+
+/// Removes the key (a ModuleSetting::key) from `root`, and the maps this leaves empty.
+void eraseKey(YAML::Node root, const std::vector<std::string>& parts) {
+  if (parts.empty()) return;
+  std::vector<std::string> parent(parts.begin(), parts.end() - 1);
+  YAML::Node owner = parent.empty() ? root : findKey(root, parent);
+  if (!owner.IsDefined() || !owner.IsMap()) return;
+  owner.remove(parts.back());
+  if (owner.size() == 0 && !parent.empty()) eraseKey(root, parent);
+}
+
+std::string signatureWithout(const Scene& scene, const std::vector<std::string>& keys) {
   YAML::Node physics = YAML::Clone(scene.resolved);
-  for (const char* key : {"end_time", "max_steps", "time_step", "output", "health"})
-    physics.remove(key);
+  for (const char* key : kClockKeys) physics.remove(key);
+  for (const std::string& key : keys) eraseKey(physics, splitKey(key));
   YAML::Emitter e;
   e << physics;
   return fnv1a(e.c_str());
 }
 
-namespace {
-/// The signatures of `scene` as written before its explicit `fluid: {pressure_gradient:
-/// symmetric}` key was added: the key removed, and the section too if that empties it. A run
-/// started before 2026-11-27 without the key ran with Eq. 5.2b, the default then; its
-/// checkpoint does not record the form (the fluid's `setting_pressure_gradient` came later), so
-/// the restart's warning asks for the key, and the key must not make the scene another one.
-/// The fluid module refuses the key against a checkpoint that records another form.
-std::vector<std::string> legacySymmetricSignatures(const Scene& scene) {
-  const YAML::Node fluid = scene.resolved["fluid"];
-  if (!fluid || !fluid.IsMap() || !fluid["pressure_gradient"] ||
-      !fluid["pressure_gradient"].IsScalar() ||
-      fluid["pressure_gradient"].Scalar() != "symmetric")
-    return {};
-  std::vector<std::string> out;
-  for (bool dropEmpty : {false, true}) {
-    YAML::Node physics = YAML::Clone(scene.resolved);
-    physics["fluid"].remove("pressure_gradient");
-    if (dropEmpty) {
-      if (physics["fluid"].size() != 0) continue;
-      physics.remove("fluid");
-    }
-    for (const char* key : {"end_time", "max_steps", "time_step", "output", "health"})
-      physics.remove(key);
-    YAML::Emitter e;
-    e << physics;
-    out.push_back(fnv1a(e.c_str()));
+/// "section 'fluid'" / "material 'clay'" and the key inside it, for the hints of the messages.
+std::pair<std::string, std::string> whereToSet(const std::string& key) {
+  const std::vector<std::string> p = splitKey(key);
+  if (p.size() >= 3 && p[0] == "materials") {
+    std::string inner = p[2];
+    for (size_t k = 3; k < p.size(); ++k) inner += "." + p[k];
+    return {"material '" + p[1] + "'", inner};
   }
+  if (p.size() >= 2) {
+    std::string inner = p[1];
+    for (size_t k = 2; k < p.size(); ++k) inner += "." + p[k];
+    return {p[0] + " section", inner};
+  }
+  return {"top level", key};
+}
+
+}  // namespace
+
+ModuleSettings sceneSettings(const Scene& scene) {
+  ModuleSettings out;
+  // Scene-wide choices that shape every kernel sum (resolved by scene.cpp, defaults filled in).
+  for (const char* key : {"kernel", "h_over_dx", "integrator"}) {
+    const YAML::Node n = scene.resolved[key];
+    if (n && n.IsScalar()) out.push_back({key, n.Scalar()});  // always in the text: no former default
+  }
+  for (const auto& m : scene.sim->modules)
+    for (ModuleSetting& st : m->settings()) out.push_back(std::move(st));
   return out;
 }
-}  // namespace
+
+std::string sceneSignature(const Scene& scene) {
+  // What must not change between a run and its restart: the physics and the geometry. The
+  // clock (end_time, max_steps, time_step), the output cadence and the health limits may.
+  // The recorded settings are compared by their resolved values (restoreCheckpoint).
+  std::vector<std::string> keys;
+  for (const ModuleSetting& st : sceneSettings(scene)) keys.push_back(st.key);
+  return signatureWithout(scene, keys);
+}
+
+std::string legacySceneSignature(const Scene& scene) { return signatureWithout(scene, {}); }
 
 void restoreCheckpoint(Scene& scene, const std::string& path, ModuleState* integratorState) {
   Simulation& sim = *scene.sim;
-  try {
-    readCheckpoint(sim, path, sceneSignature(scene), integratorState);
-  } catch (const InputError& e) {
-    // Only the signature check (made before anything is read into the simulation) is retried.
-    if (std::string(e.what()).find("scene signature") == std::string::npos) throw;
-    bool restored = false;
-    for (const std::string& legacy : legacySymmetricSignatures(scene)) {
-      try {
-        readCheckpoint(sim, path, legacy, integratorState);
-        restored = true;
-        break;
-      } catch (const InputError& again) {
-        if (std::string(again.what()).find("scene signature") == std::string::npos) throw;
+  const CheckpointRecord record = readCheckpointRecord(path);
+  const ModuleSettings settings = sceneSettings(scene);
+  std::vector<std::string> warnings;
+  std::string expected;
+  if (record.hasSettings) {
+    // Every recorded setting against the one the scene resolves to, by name: a typed change and
+    // a default that changed between the binaries are refused alike.
+    std::ostringstream diff;
+    int differences = 0;
+    std::vector<std::string> recordedKeys;
+    for (const auto& [key, value] : record.settings) {
+      recordedKeys.push_back(key);
+      const auto it = std::find_if(settings.begin(), settings.end(),
+                                   [&](const ModuleSetting& st) { return st.key == key; });
+      if (it != settings.end() && it->value == value) continue;
+      diff << (differences++ ? "; " : "") << key << ": checkpoint " << value << ", scene ";
+      if (it == settings.end()) {
+        diff << "(not a setting of this scene)";
+        continue;
+      }
+      diff << it->value;
+      if (!sceneSetsKey(scene, key)) {
+        const auto [where, inner] = whereToSet(key);
+        diff << " (the default; the scene has no key: add '" << inner << ": " << value
+             << "' to its " << where << " to continue the run as it ran)";
       }
     }
-    if (!restored) throw;
+    if (differences > 0)
+      throw InputError("checkpoint '" + path + "': " + std::to_string(differences) +
+                       (differences == 1 ? " setting differs" : " settings differ") +
+                       " from the run that wrote it: " + diff.str() +
+                       ". A restart keeps the settings it ran with (docs/output.md \"Restart "
+                       "and changed defaults\")");
+    for (const ModuleSetting& st : settings)
+      if (std::find(recordedKeys.begin(), recordedKeys.end(), st.key) == recordedKeys.end())
+        warnings.push_back("warning: restart: checkpoint '" + path + "' does not record the setting " +
+                           st.key + " (written by an older binary); this run uses " + st.value + "\n");
+    expected = signatureWithout(scene, recordedKeys);
+  } else {
+    // Written before settings were recorded (2026-11-28): compared by the whole scene text, as
+    // then written. A key the scene sets to the default that a scene without it then ran with
+    // (ModuleSetting::formerDefault) is the same physics: the signature without those keys is
+    // accepted too. A key left to a default that has changed since cannot be checked: warned.
+    expected = legacySceneSignature(scene);
+    std::vector<std::string> pinned;
+    for (const ModuleSetting& st : settings) {
+      if (st.formerDefault.empty()) continue;
+      const bool set = sceneSetsKey(scene, st.key);
+      if (set && st.value == st.formerDefault) pinned.push_back(st.key);
+      if (!set && st.value != st.formerDefault) {
+        const auto [where, inner] = whereToSet(st.key);
+        const std::vector<std::string> p = splitKey(st.key);
+        const std::string owner = p.size() >= 2 && p[0] != "materials" ? "the " + p[0] + "'s " : "";
+        warnings.push_back(
+            "warning: restart: the checkpoint '" + path + "' does not record " + owner + inner +
+            " (it was written before the settings were recorded, 2026-11-28); this run "
+            "continues with the default " + st.value + ". A scene without the key ran with " +
+            st.formerDefault + (st.formerDefaultNote.empty() ? "" : " " + st.formerDefaultNote) +
+            ": for a run started then, add '" + inner + ": " + st.formerDefault +
+            "' to the scene's " + where + " to continue it as it ran (docs/output.md "
+            "\"Restart and changed defaults\")\n");
+      }
+    }
+    if (!record.signature.empty() && record.signature != expected && !pinned.empty()) {
+      const std::string withoutPinned = signatureWithout(scene, pinned);
+      if (withoutPinned == record.signature) expected = withoutPinned;
+    }
   }
+  readCheckpoint(sim, path, expected, integratorState);
+  for (const std::string& w : warnings) std::fputs(w.c_str(), stderr);
   if (scene.finished())
     throw InputError(path + ": the checkpoint is at time " + std::to_string(sim.time) +
                      " s, step " + std::to_string(sim.step) + ", which is not before the end of " +
@@ -234,6 +353,7 @@ RunResult runScene(Scene& scene, const RunOptions& options) {
 
   std::unique_ptr<Integrator> integrator = makeIntegrator(scene.integrator);
   const std::string signature = sceneSignature(scene);  // written into every checkpoint
+  const ModuleSettings settings = sceneSettings(scene);  // recorded in every checkpoint
   if (!options.restartFrom.empty()) {
     ModuleState integratorState;
     restoreCheckpoint(scene, options.restartFrom, &integratorState);
@@ -345,7 +465,7 @@ RunResult runScene(Scene& scene, const RunOptions& options) {
                                 " s)\n"
                           : "poresph: the last good state could not be restored (particle "
                             "count changed); writing the state as it is\n");
-      writeCheckpoint(sim, checkpointPath, signature);
+      writeCheckpoint(sim, checkpointPath, signature, nullptr, &settings);
       result.checkpoint = checkpointPath;
       if (lastOutputStep != sim.step || !restored) {
         result.lastSnapshot = writer.writeSnapshot(sim);
@@ -361,7 +481,7 @@ RunResult runScene(Scene& scene, const RunOptions& options) {
       // The same state the end of the run would write (the step is complete): a run killed
       // later restarts from here to round-off (docs/output.md "Checkpoints").
       const ModuleState integratorState = integrator->saveState(sim);
-      writeCheckpoint(sim, checkpointPath, signature, &integratorState);
+      writeCheckpoint(sim, checkpointPath, signature, &integratorState, &settings);
       lastCheckpointStep = sim.step;
       lastCheckpointWall = Clock::now();
     }
@@ -390,7 +510,7 @@ RunResult runScene(Scene& scene, const RunOptions& options) {
   if (result.status != RunStatus::Failed) {
     if (lastOutputStep != sim.step) writeOutput();
     const ModuleState integratorState = integrator->saveState(sim);
-    writeCheckpoint(sim, checkpointPath, signature, &integratorState);
+    writeCheckpoint(sim, checkpointPath, signature, &integratorState, &settings);
     result.checkpoint = checkpointPath;
     if (log && result.status == RunStatus::Interrupted)
       *log << "\nporesph: stopped by signal " << result.signal << " after step " << sim.step

@@ -69,13 +69,25 @@ RunEstimate estimateRun(Scene& scene, long steps, double maxSeconds);
 /// Lines for `poresph info`: "stable steps: ...", "estimate: ...".
 std::string describeEstimate(const Scene& scene, const RunEstimate& e);
 
-/// A hash of the scene's physics and geometry (the resolved scene without end_time, max_steps,
-/// time_step, output, health): written into checkpoints and compared on restart.
+/// The run's resolved settings, recorded in every checkpoint and compared on restart key by key:
+/// the scene's kernel, h_over_dx and integrator, then every module's Module::settings().
+ModuleSettings sceneSettings(const Scene& scene);
+
+/// A hash of the scene's physics and geometry: the resolved scene without end_time, max_steps,
+/// time_step, output, health and without the keys of sceneSettings() (compared by value
+/// instead), written into checkpoints and compared on restart.
 std::string sceneSignature(const Scene& scene);
+/// The signature as checkpoints written before 2026-11-28 hold it: the whole resolved scene
+/// (module sections as written) without end_time, max_steps, time_step, output and health.
+std::string legacySceneSignature(const Scene& scene);
 
 /// Reads a checkpoint into the scene's simulation, refusing (InputError naming the file) one of
-/// another scene (particle count, scene signature), a missing or unreadable file, and one whose
-/// time is not before the scene's end. runScene() calls it; `poresph run --restart` calls it
+/// another scene (particle count, scene signature), one whose recorded settings differ from the
+/// scene's (each differing key named with the checkpoint's and the scene's value), a missing or
+/// unreadable file, and one whose time is not before the scene's end. A checkpoint without
+/// recorded settings (written before 2026-11-28) is compared by legacySceneSignature(), a key
+/// set explicitly to its ModuleSetting::formerDefault left out, and warns for each setting the
+/// scene leaves to a default that differs from the former one. runScene() calls it; `poresph run --restart` calls it
 /// before it touches the output directory.
 void restoreCheckpoint(Scene& scene, const std::string& path,
                        ModuleState* integratorState = nullptr);

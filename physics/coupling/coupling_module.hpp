@@ -51,6 +51,11 @@ class CouplingModule : public Module {
   /// The fluid-solid pairs store no energy of their own: with the mirror model the work they do
   /// is exactly what the fluid's compression energy and the solid take up, so the energy check
   /// stays on; with the extrapolated model it does not close (returns false: check off).
+  /// fluid_solid (mirror / extrapolated), recorded in checkpoints (Module::settings).
+  ModuleSettings settings() const override {
+    return {{"coupling.fluid_solid", model_ == BoundaryModel::Extrapolated ? "extrapolated" : "mirror",
+             "mirror"}};
+  }
   bool energyAccount(const Simulation& sim, EnergyAccount& account) const override {
     return model_ == BoundaryModel::Mirror;
   }

@@ -84,6 +84,7 @@ void DrainageModule::configure(Simulation& sim, const std::vector<const Material
   std::vector<std::string> axes = {"x", "y", "z"};
   axes.resize(static_cast<size_t>(d));
   const std::string axisName = s.choice("axis", axes.back(), axes);
+  axisDefault_ = axes.back();
   axis_ = static_cast<int>(std::find(axes.begin(), axes.end(), axisName) - axes.begin());
   invading_ = materialId(sim, s, "invading");
   defending_ = materialId(sim, s, "defending");
@@ -123,6 +124,7 @@ void DrainageModule::configure(Simulation& sim, const std::vector<const Material
   }
   pressureDrop_ = s.real("pressure_drop", 0.0, Range::nonNegative());
   const std::string push = s.choice("push", "negative", {"negative", "positive"});
+  push_ = push;
   rampTime_ = s.real("ramp_time", 0.0, Range::nonNegative());
   linkDistance_ = s.real("link_distance", 1.5, Range::closed(1.0, 2.0));
   checkEvery_ = s.integer("percolation_every", 10, 1, 1000000);

@@ -54,6 +54,11 @@ class DrainageModule : public Module {
   void endOfStep(Simulation& sim, double dt) override;
   ModuleState saveState() const override;
   void restoreState(const ModuleState& state) override;
+  /// axis and push direction, recorded in checkpoints (Module::settings).
+  ModuleSettings settings() const override {
+    const std::string axis(1, "xyz"[axis_]);
+    return {{"drainage.axis", axis, axisDefault_}, {"drainage.push", push_, "negative"}};
+  }
   void diagnostics(const Simulation& sim,
                    std::vector<std::pair<std::string, double>>& columns) const override;
   /// `poresph info`: the set-up, the body force and the fluids' ratios (Eqs. 5.13, density).
@@ -76,6 +81,7 @@ class DrainageModule : public Module {
 
  private:
   int axis_ = 0;
+  std::string axisDefault_ = "z", push_ = "negative";  // for settings()
   double sampleLo_ = 0.0, sampleHi_ = 0.0;
   double pressureDrop_ = 0.0, force_ = 0.0, rampTime_ = 0.0, linkDistance_ = 1.5;
   int invading_ = -1, defending_ = -1;  // material ids

@@ -78,7 +78,6 @@ void FluidModule::configure(Simulation& sim, const std::vector<const Material*>&
   // default pressure gradient, Eq. 5.2a (the member initialiser in fluid_module.hpp is
   // overwritten here).
   pressureForm_ = PressureForm::Volume;
-  pressureFormExplicit_ = section && section->has("pressure_gradient");
   if (section) {
     const ParameterSet& s = *section;
     if (s.has("gravity")) gravity_ = s.reals("gravity", static_cast<size_t>(d));
@@ -1265,64 +1264,26 @@ double FluidModule::timeStepLimit(const Simulation& sim) const {
   return dt;
 }
 
-namespace {
-// Codes of the pressure forms in checkpoints: fixed numbers, not the enum's values.
-double pressureFormCode(FluidPressureForm f) {
-  return f == FluidPressureForm::Symmetric ? 0.0 : f == FluidPressureForm::HuAdams ? 1.0 : 2.0;
-}
-const char* pressureFormName(FluidPressureForm f) {
-  return f == FluidPressureForm::Symmetric ? "symmetric (Eq. 5.2b)"
-         : f == FluidPressureForm::HuAdams ? "hu_adams"
-                                           : "volume (Eq. 5.2a)";
-}
-}  // namespace
-
-ModuleState FluidModule::saveState() const {
-  return {{"setting_pressure_gradient", {pressureFormCode(pressureForm_)}}};
-}
-
-void FluidModule::restoreState(const ModuleState& state) {
-  for (const auto& [name, values] : state) {
-    if (name != "setting_pressure_gradient") continue;
-    if (values.empty()) {
-      // A checkpoint written before the form was recorded (libcore/checkpoint.cpp): it cannot
-      // say which form it ran with. Only a scene that leaves the key to the default is at risk.
-      if (!pressureFormExplicit_)
-        std::fprintf(stderr,
-                     "warning: restart: the checkpoint does not record the fluid's "
-                     "pressure_gradient (it was written before the form was recorded, 2026-11-27); this run continues with "
-                     "the default %s. The default was symmetric (Eq. 5.2b) until 2026-11-27 "
-                     "(b84d7bb): a run started before then without the key ran with 5.2b; add "
-                     "'pressure_gradient: symmetric' to the scene's fluid section to continue "
-                     "it as it ran (docs/output.md \"Restart and changed defaults\")\n",
-                     pressureFormName(pressureForm_));
-      continue;
-    }
-    const double code = values.at(0);
-    const FluidPressureForm saved = code == 0.0   ? FluidPressureForm::Symmetric
-                                    : code == 1.0 ? FluidPressureForm::HuAdams
-                                    : code == 2.0 ? FluidPressureForm::Volume
-                                                  : throw InputError(
-                                                        "restart: the checkpoint's fluid "
-                                                        "pressure_gradient code " +
-                                                        std::to_string(code) + " is unknown");
-    if (saved == pressureForm_) continue;
-    // Hu-Adams also sets the wall pairs' form (Simulation::fluidPairSettings, configure); it is
-    // never a default, so a change to or from it is an explicit change of the scene.
-    if (pressureFormExplicit_ || saved == FluidPressureForm::HuAdams ||
-        pressureForm_ == FluidPressureForm::HuAdams)
-      throw InputError(std::string("restart: the checkpoint ran with fluid pressure_gradient ") +
-                       pressureFormName(saved) + " but the scene sets " +
-                       pressureFormName(pressureForm_) +
-                       ": the pressure gradient cannot change on a restart (restart with the "
-                       "setting that wrote the checkpoint)");
-    std::fprintf(stderr,
-                 "note: restart: the checkpoint ran with the fluid's pressure_gradient %s, the "
-                 "default when it was written; the scene has no pressure_gradient key (the "
-                 "default is now %s): the restart keeps %s\n",
-                 pressureFormName(saved), pressureFormName(pressureForm_), pressureFormName(saved));
-    pressureForm_ = saved;
-  }
+ModuleSettings FluidModule::settings() const {
+  const char* form = pressureForm_ == FluidPressureForm::Symmetric ? "symmetric"
+                     : pressureForm_ == FluidPressureForm::HuAdams ? "hu_adams"
+                                                                   : "volume";
+  return {
+      {"fluid.density", summation_ ? "summation" : "continuity", "continuity"},
+      // Eq. 5.2b (symmetric) was the default until b84d7bb, 2026-11-27; Eq. 5.2a since.
+      {"fluid.pressure_gradient", form, "symmetric", "until 2026-11-27 (b84d7bb)"},
+      {"fluid.continuity_form", continuityForm_ == ContinuityForm::Mass ? "mass" : "volume",
+       "volume"},
+      {"fluid.continuity_interface", acousticInterface_ ? "acoustic" : "mean", "mean"},
+      {"fluid.wall_pressure", wallMirrorLight_ ? "light_mirror" : "extrapolated", "extrapolated"},
+      {"fluid.viscosity_mean", harmonicMean_ ? "harmonic" : "arithmetic", "harmonic"},
+      {"fluid.surface_tension_form", balancedCsf_ ? "balanced" : "csf", "csf"},
+      {"fluid.surface_tension_weighting", densityWeightedCsf_ ? "density" : "none", "density"},
+      {"fluid.wetting", wettingNormal_ ? "normal" : "colour", "normal"},
+      {"fluid.wall_normal", wideWallNormal_ ? "wide" : "local", "local"},
+      {"fluid.pressure_reference", pressureReference_ ? "background" : "none", "none"},
+      {"fluid.pair_precision", floatPairs_ ? "float" : "double", "double"},
+  };
 }
 
 void FluidModule::diagnostics(const Simulation& sim,

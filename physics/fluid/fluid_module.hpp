@@ -97,14 +97,12 @@ class FluidModule : public Module {
                    std::vector<HealthIssue>& issues) const override;
   /// Gravity potential of the moving fluid; compression and surface energy as untracked scale.
   bool energyAccount(const Simulation& sim, EnergyAccount& account) const override;
-  /// Records the resolved `pressure_gradient` in checkpoints (entry setting_pressure_gradient:
-  /// 0 symmetric / Eq. 5.2b, 1 hu_adams, 2 volume / Eq. 5.2a). On restart from a checkpoint that
-  /// ran with another form while the scene leaves the key to its default, the checkpoint's form
-  /// is kept (with a note); against an explicit key it is refused; a checkpoint that predates
-  /// the record (no values) gets a warning when the scene relies on the default, which changed
-  /// from Eq. 5.2b to Eq. 5.2a on 2026-11-27 (docs/output.md "Restart and changed defaults").
-  ModuleState saveState() const override;
-  void restoreState(const ModuleState& state) override;
+  /// The resolved choices of the fluid section (density, pressure_gradient, continuity_form,
+  /// continuity_interface, wall_pressure, viscosity_mean, surface tension form and weighting,
+  /// wetting, wall_normal, pressure_reference, pair_precision), recorded in checkpoints and
+  /// compared on restart (Module::settings; the default pressure_gradient changed from
+  /// Eq. 5.2b to Eq. 5.2a on 2026-11-27, docs/output.md "Restart and changed defaults").
+  ModuleSettings settings() const override;
 
   /// fluid-fluid and fluid-wall (the fluid-solid pairs belong to the coupling module).
   std::vector<PairClass> ownedPairs() const override {
@@ -209,7 +207,6 @@ class FluidModule : public Module {
   std::vector<BodyForce> bodyForces_;
   bool summation_ = false;
   PressureForm pressureForm_ = PressureForm::Volume;  // Eq. 5.2a, the default (b84d7bb)
-  bool pressureFormExplicit_ = false;  // the scene sets pressure_gradient (restoreState)
   bool harmonicMean_ = true;
   ContinuityForm continuityForm_ = ContinuityForm::Volume;  // continuity_form (Eq. 5.1a / mass)
   bool acousticInterface_ = false;  // continuity_interface: acoustic (interfaceContinuityWeight)

@@ -113,6 +113,13 @@ class RigidModule : public Module {
   /// "bodies", 35 numbers per body. The particles' `body` and `body_offset` are store fields.
   ModuleState saveState() const override;
   void restoreState(const ModuleState& state) override;
+  /// fluid_rigid (extrapolated / mirror; mirror was the default until d8fafdf, 2026-11-23 20:04
+  /// UTC, hours after the first commit: the former default taken is extrapolated), recorded in
+  /// checkpoints (Module::settings).
+  ModuleSettings settings() const override {
+    return {{"rigid.fluid_rigid", fluidModel_ == BoundaryModel::Extrapolated ? "extrapolated" : "mirror",
+             "extrapolated"}};
+  }
   double timeStepLimit(const Simulation& sim) const override;
   void diagnostics(const Simulation& sim,
                    std::vector<std::pair<std::string, double>>& columns) const override;

@@ -64,9 +64,41 @@ void lameParameters(double E, double nu, int dim, Plane plane, double& lambda, d
 // ------------------------------------------------------------------------------------------------
 // configure: materials, boundary conditions, fields
 // ------------------------------------------------------------------------------------------------
+ModuleSettings ElasticSolidModule::settings() const {
+  ModuleSettings out;
+  const char* form = formulation_ == Formulation::SmallStrainStress ? "small_strain_stress"
+                     : formulation_ == Formulation::SmallStrainDisplacement
+                         ? "small_strain_displacement"
+                         : "total_lagrangian";
+  for (const ElasticMaterial& e : mats_) {
+    const std::string m = "materials." + e.name + ".";
+    out.push_back({m + "formulation", form, "total_lagrangian"});
+    if (dim_ == 2) out.push_back({m + "plane", plane_ == Plane::Stress ? "stress" : "strain", "strain"});
+    if (e.law.type == solid::DamageLawType::Elastic) continue;
+    out.push_back({m + "damage.law", solid::damageLawName(e.law.type)});
+    out.push_back({m + "damage.split",
+                   e.law.splitType == solid::EnergySplit::Spectral ? "spectral" : "volumetric",
+                   "volumetric"});
+    if (e.law.type == solid::DamageLawType::RankineMohrCoulomb)
+      out.push_back({m + "damage.tensile_measure",
+                     e.law.tensileMeasure == solid::TensileMeasure::Stress ? "stress" : "strain",
+                     "strain"});
+  }
+  if (anyHourglass_)
+    out.push_back({"solid.hourglass_form", hourglassConservative_ ? "conservative" : "pairwise",
+                   "conservative"});
+  if (anyDamage_)
+    out.push_back({"solid.damage_commit", commitAtEvaluation_ ? "evaluation" : "step_end",
+                   "step_end"});
+  // The solid's own kernel width (kernel-affecting); "kernel": the scene's h.
+  out.push_back({"solid.smoothing_length", ownH_ > 0.0 ? settingNumber(ownH_) : "kernel", "kernel"});
+  return out;
+}
+
 void ElasticSolidModule::configure(Simulation& sim, const std::vector<const Material*>& materials,
                                    const ParameterSet* section) {
   const int dim = sim.dimension();
+  dim_ = dim;
   if (materials.empty()) throw InputError("solid module: no material with model 'elastic'");
   mats_.clear();
   slot_.assign(std::max<size_t>(sim.materials.size(), 1), -1);

@@ -120,6 +120,10 @@ class ElasticSolidModule : public Module {
     for (const auto& [name, v] : state)
       if (name == "damage_clipped_updates" && !v.empty()) clippedUpdates_ = static_cast<long>(v[0]);
   }
+  /// Per elastic material its formulation, plane (2D) and damage law, split and (Rankine)
+  /// tensile_measure; the section's hourglass_form, damage_commit and smoothing_length
+  /// (Module::settings: recorded in checkpoints, compared on restart).
+  ModuleSettings settings() const override;
   double timeStepLimit(const Simulation& sim) const override;
   /// The TL reference family registered in initialise(): per member an id, a slot (int32 each)
   /// and D gradient doubles, plus the member count (docs/particle-store.md "Memory").
@@ -283,6 +287,7 @@ class ElasticSolidModule : public Module {
   /// this h) for its families, internal forces, hourglass, viscosity, XSPH and step limit; 0:
   /// the run's kernel. Pairs with other phases keep the run's h.
   double ownH_ = 0.0;
+  int dim_ = 0;  ///< the run's dimension (settings(): plane in 2D)
   Kernel kernel_;
   const Kernel& solidKernel(const Simulation& sim) const;
   std::array<double, 3> gravity_{0, 0, 0};  ///< solid: {gravity: [..]} [m/s^2]
