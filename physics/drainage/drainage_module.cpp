@@ -10,6 +10,7 @@
 
 #include "libcore/phases.hpp"
 #include "libcore/simulation.hpp"
+#include "libcore/time_schedule.hpp"
 
 namespace poresph {
 
@@ -205,7 +206,7 @@ void DrainageModule::forces(Simulation& sim) {
   const int a = axis_;
   // Ramped like the solid's loads: f min(1, t / ramp_time), so that the start sends no
   // pressure shock through weakly compressible fluids.
-  const double ramp = rampTime_ > 0.0 ? std::min(1.0, sim.time / rampTime_) : 1.0;
+  const double ramp = linearRamp(sim.time, rampTime_);  // libcore/time_schedule.hpp
   const double lo = sampleLo_, hi = sampleHi_, f = force_ * ramp;
   const std::int32_t inv = invading_;
 #pragma omp parallel for schedule(static)

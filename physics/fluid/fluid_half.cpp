@@ -263,7 +263,10 @@ void FluidModule::wallExtrapolationHalf(Simulation& sim, const Fields& f) {
   const Index n = f.n;
   const unsigned char* wet = wetFlag_.data();
   Vec<D> g;
-  for (int a = 0; a < D; ++a) g[a] = gravity_[static_cast<size_t>(a)];
+  {
+    const std::array<double, 3> gNow = gravityAt(sim.time);  // x the gravity_schedule's factor
+    for (int a = 0; a < D; ++a) g[a] = gNow[static_cast<size_t>(a)];
+  }
   // Per boundary particle: sum W, sum p W, sum rho W r, sum v W (the gather loop's sums; the
   // last only when wall_velocity is held).
   const bool noSlip = f.vw != nullptr;
@@ -435,7 +438,10 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
   const double* pRho2 = pRho2_.data();
   const FluidFluidOptions ffOptions{pForm, pOff, alpha, h};
   Vec<D> g;
-  for (int a = 0; a < D; ++a) g[a] = gravity_[static_cast<size_t>(a)];
+  {
+    const std::array<double, 3> gNow = gravityAt(sim.time);  // x the gravity_schedule's factor
+    for (int a = 0; a < D; ++a) g[a] = gNow[static_cast<size_t>(a)];
+  }
 
   // Per particle: acceleration (pressure + viscous + artificial), continuity sum, diffusion sum,
   // viscous moment (only with the viscous factors), then the optional XSPH, shifting and

@@ -73,6 +73,7 @@ void FluidModule::configure(Simulation& sim, const std::vector<const Material*>&
   }
 
   gravity_.assign(static_cast<size_t>(d), 0.0);
+  gravitySchedule_ = TimeSchedule{};
   bodyForces_.clear();
   // A scene without a `fluid:` section never reaches the keys below; it must get the same
   // default pressure gradient, Eq. 5.2a (the member initialiser in fluid_module.hpp is
@@ -81,8 +82,12 @@ void FluidModule::configure(Simulation& sim, const std::vector<const Material*>&
   if (section) {
     const ParameterSet& s = *section;
     if (s.has("gravity")) gravity_ = s.reals("gravity", static_cast<size_t>(d));
-    for (int a = 0; a < d; ++a)
-      sim.published.fluidGravity[static_cast<size_t>(a)] = gravity_[static_cast<size_t>(a)];
+    // Ramped gravity (docs/fluid.md "Ramped gravity"): g(t) = gravity x factor(t), the factor a
+    // table (libcore/time_schedule.hpp) evaluated at each evaluation's sim.time.
+    gravitySchedule_ = s.has("gravity_schedule") ? TimeSchedule::read(s.section("gravity_schedule"))
+                                                 : TimeSchedule{};
+    if (!gravitySchedule_.constant() && !s.has("gravity"))
+      s.fail("gravity_schedule", "scales `gravity`, which the section does not set");
     if (s.has("body_forces")) {
       for (const ParameterSet& b : s.sectionList("body_forces")) {
         BodyForce f;
@@ -201,6 +206,7 @@ void FluidModule::configure(Simulation& sim, const std::vector<const Material*>&
     }
     s.finish();
   }
+  publishGravity(sim);
 
   // One background pressure per run (issue 14): the smallest of the fluids' (all equal in the
   // shipped scenes). With `pressure_reference: background` it is subtracted in the pressure
@@ -320,8 +326,11 @@ void FluidModule::initialise(Simulation& sim) {
   const std::int32_t* mt = st.data(st.material());
   double cellVolume = 1.0;
   for (int a = 0; a < d; ++a) cellVolume *= sim.spacing;
+  // The hydrostatic initial state is in equilibrium with the gravity of the start time
+  // (gravity_schedule's factor at sim.time, normally t = 0; none when that factor is 0).
+  const std::array<double, 3> gStart = gravityAt(sim.time);
   double gNorm = 0.0;
-  for (double g : gravity_) gNorm += g * g;
+  for (double g : gStart) gNorm += g * g;
   gNorm = std::sqrt(gNorm);
   for (Index i = 0; i < n; ++i) {
     const int id = mt[i];
@@ -443,9 +452,12 @@ void FluidModule::checkSoundSpeeds(const Simulation& sim) const {
   const double* x = st.data(st.position());
   const double* v = st.data(st.velocity());
   const std::int32_t* mt = st.data(st.material());
+  // The strongest gravity the run reaches: `gravity` x the schedule's largest |factor| (the
+  // direction is that of `gravity`).
   double g = 0.0;
   for (double c : gravity_) g += c * c;
   g = std::sqrt(g);
+  const double gMax = g * gravitySchedule_.largestFactor();
   double fMax = largestBodyForce(), length = 0.0;
   for (int a = 0; a < d; ++a) length = std::max(length, sim.domain.length(a));
   for (size_t id = 0; id < mat_.size(); ++id) {
@@ -468,8 +480,8 @@ void FluidModule::checkSoundSpeeds(const Simulation& sim) const {
     if (count == 0) continue;
     struct Speed { double value; std::string why; };
     std::vector<Speed> speeds = {{std::sqrt(v2max), "its largest initial velocity"}};
-    if (g > 0.0 && hi > lo)
-      speeds.push_back({std::sqrt(2.0 * g * (hi - lo)),
+    if (gMax > 0.0 && hi > lo)
+      speeds.push_back({std::sqrt(2.0 * gMax * (hi - lo)),
                         "sqrt(2 g H), free fall over its height H = " + std::to_string(hi - lo) + " m"});
     if (fMax > 0.0)
       speeds.push_back({std::sqrt(2.0 * fMax * length),
@@ -509,8 +521,9 @@ void FluidModule::initialiseHydrostatic(Simulation& sim) {
   double* p = st.data(pressure);
   const std::int32_t* ph = st.data(st.phase());
   const std::int32_t* mt = st.data(st.material());
+  const std::array<double, 3> gStart = gravityAt(sim.time);  // initialise(): the start's gravity
   double gNorm = 0.0;
-  for (double g : gravity_) gNorm += g * g;
+  for (double g : gStart) gNorm += g * g;
   gNorm = std::sqrt(gNorm);
   struct Entry {
     std::array<long, 3> column;
@@ -525,10 +538,10 @@ void FluidModule::initialiseHydrostatic(Simulation& sim) {
   for (Index i = 0; i < n; ++i) {
     if (ph[i] != kPhaseFluid) continue;
     double height = 0.0;
-    for (int a = 0; a < d; ++a) height -= x[i * d + a] * gravity_[static_cast<size_t>(a)] / gNorm;
+    for (int a = 0; a < d; ++a) height -= x[i * d + a] * gStart[static_cast<size_t>(a)] / gNorm;
     Entry en{{0, 0, 0}, height, i};
     for (int a = 0; a < d; ++a) {  // position across g, binned
-      const double across = x[i * d + a] + height * gravity_[static_cast<size_t>(a)] / gNorm;
+      const double across = x[i * d + a] + height * gStart[static_cast<size_t>(a)] / gNorm;
       const double u = across / sim.spacing;
       if (first) offset[a] = u - std::floor(u);
       en.column[static_cast<size_t>(a)] = std::lround(std::floor(u - offset[a] + 0.5));
@@ -586,7 +599,19 @@ FluidModule::Fields FluidModule::fields(Simulation& sim) const {
   return f;
 }
 
+std::array<double, 3> FluidModule::gravityAt(double t) const {
+  const double factor = gravitySchedule_.factor(t);
+  std::array<double, 3> g{0, 0, 0};
+  for (size_t a = 0; a < gravity_.size() && a < 3; ++a) g[a] = gravity_[a] * factor;
+  return g;
+}
+
+void FluidModule::publishGravity(Simulation& sim) const {
+  sim.published.fluidGravity = gravityAt(sim.time);
+}
+
 void FluidModule::kinematics(Simulation& sim) {
+  publishGravity(sim);  // the gravity of this evaluation's time (gravity_schedule)
   dispatchDimension(dim_, [&](auto dc) { this->template kinematicsD<decltype(dc)::value>(sim); });
 }
 void FluidModule::constitutive(Simulation& sim) {
@@ -867,7 +892,10 @@ void FluidModule::constitutiveD(Simulation& sim) {
   const auto& nl = sim.neighbours;
   const Kernel& W = sim.kernel;
   Vec<D> g;
-  for (int a = 0; a < D; ++a) g[a] = gravity_[static_cast<size_t>(a)];
+  {
+    const std::array<double, 3> gNow = gravityAt(sim.time);  // x the gravity_schedule's factor
+    for (int a = 0; a < D; ++a) g[a] = gNow[static_cast<size_t>(a)];
+  }
   // Only boundary particles with a fluid neighbour are extrapolated (issue 17): they are
   // flagged from the fluid particles' candidate lists (Simulation::neighbourCandidates: the
   // lists are symmetric; a ghost neighbour flags its source), so that the neighbours of the
@@ -978,7 +1006,10 @@ void FluidModule::forcesD(Simulation& sim) {
   const double h = W.h();
   const bool huAdams = pressureForm_ == PressureForm::HuAdams;  // the wall pairs and the balanced CSF
   Vec<D> g;
-  for (int a = 0; a < D; ++a) g[a] = gravity_[static_cast<size_t>(a)];
+  {
+    const std::array<double, 3> gNow = gravityAt(sim.time);  // x the gravity_schedule's factor
+    for (int a = 0; a < D; ++a) g[a] = gNow[static_cast<size_t>(a)];
+  }
 
   // Lattice normalisation of the Laplacian (5.3/5.4): sum_b V_b |r_ab|^2 (-F_ab) = D holds in
   // the continuum only; on the particle lattice it is a few per cent off at h ~ 1.3 dx, which
@@ -1383,13 +1414,21 @@ bool FluidModule::energyAccount(const Simulation& sim, EnergyAccount& account) c
   const std::int32_t* mt = st.data(st.material());
   const MaterialData* md = mat_.data();
   const int nm = static_cast<int>(mat_.size());
+  // A gravity that varies in time (gravity_schedule) has no potential: its work is counted
+  // like the body forces' (untracked, at its largest magnitude) and E_p is left out.
+  const bool ramped = !gravitySchedule_.constant();
   double g[3] = {0, 0, 0}, gNorm = 0.0;
   for (int a = 0; a < d; ++a) {
     g[a] = gravity_[static_cast<size_t>(a)];
     gNorm += g[a] * g[a];
   }
   gNorm = std::sqrt(gNorm);
-  const double fMax = largestBodyForce();
+  double fMax = largestBodyForce();
+  if (ramped) {
+    fMax = std::max(fMax, gNorm * gravitySchedule_.largestFactor());
+    g[0] = g[1] = g[2] = 0.0;
+    gNorm = 0.0;
+  }
   const double* rho = st.data(st.density());
   double potential = 0.0, internal = 0.0, mass = 0.0, compression = 0.0, lo = 1e300, hi = -1e300;
 #pragma omp parallel for schedule(static) reduction(+ : potential, internal, mass, compression) \
@@ -1411,8 +1450,8 @@ bool FluidModule::energyAccount(const Simulation& sim, EnergyAccount& account) c
   }
   account.stored += potential + internal;
   if (gNorm > 0.0 && hi > lo) account.storedRange += mass * gNorm * (hi - lo);
-  // Body forces (e.g. a drainage pressure drop) do work that is not accounted: their scale is
-  // m |f| times the domain diagonal.
+  // Body forces (e.g. a drainage pressure drop) and a ramped gravity do work that is not
+  // accounted: their scale is m |f| times the domain diagonal.
   double diagonal = 0.0;
   for (int a = 0; a < d; ++a) diagonal += sim.domain.length(a) * sim.domain.length(a);
   account.untrackedScale += compression + mass * fMax * std::sqrt(diagonal);
@@ -1421,6 +1460,15 @@ bool FluidModule::energyAccount(const Simulation& sim, EnergyAccount& account) c
     account.untrackedScale += gamma_ * static_cast<double>(n) * 2.0 * d *
                               std::pow(sim.spacing, d - 1);
   return true;
+}
+
+std::string FluidModule::describe(const Simulation& /*sim*/) const {
+  if (gravitySchedule_.constant()) return "";
+  std::ostringstream o;
+  o << "fluid gravity: [";
+  for (size_t a = 0; a < gravity_.size(); ++a) o << (a ? ", " : "") << gravity_[a];
+  o << "] m/s^2 x factor(t), gravity_schedule " << gravitySchedule_.describe() << "\n";
+  return o.str();
 }
 
 PORESPH_REGISTER_MODULE(FluidModule, "fluid")

@@ -29,6 +29,7 @@
 // (5.2a, the default `pressure_gradient: volume`; 5.2b `symmetric`; Hu-Adams), harmonic-mean viscosity (5.4), body forces, CSF surface
 // tension (1.9), all in gather form.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -39,6 +40,7 @@
 #include "libcore/module.hpp"
 #include "libcore/pair_scatter.hpp"
 #include "libcore/particle_store.hpp"
+#include "libcore/time_schedule.hpp"
 #include "libcore/types.hpp"
 #include "physics/fluid/fluid_pair.hpp"
 
@@ -97,6 +99,8 @@ class FluidModule : public Module {
                    std::vector<HealthIssue>& issues) const override;
   /// Gravity potential of the moving fluid; compression and surface energy as untracked scale.
   bool energyAccount(const Simulation& sim, EnergyAccount& account) const override;
+  /// `poresph info`: the gravity_schedule, when the scene has one.
+  std::string describe(const Simulation& sim) const override;
   /// The resolved choices of the fluid section (density, pressure_gradient, continuity_form,
   /// continuity_interface, wall_pressure, viscosity_mean, surface tension form and weighting,
   /// wetting, wall_normal, pressure_reference, pair_precision), recorded in checkpoints and
@@ -133,7 +137,14 @@ class FluidModule : public Module {
   /// Number of EOS evaluations at which the density bound was exceeded.
   long long densityBoundExceeded() const { return boundExceeded_; }
   double densityBound() const { return densityBound_; }
+  /// The key `gravity` (D components; unscaled).
   const std::vector<double>& gravity() const { return gravity_; }
+  /// The key `gravity_schedule`: the factor of `gravity` over time (constant 1 without it).
+  const TimeSchedule& gravitySchedule() const { return gravitySchedule_; }
+  /// The gravity acting at time t, `gravity` x gravitySchedule().factor(t) (zero beyond D): what
+  /// the force, the walls' hydrostatic extrapolation and sim.published.fluidGravity use at an
+  /// evaluation at sim.time = t (docs/fluid.md "Ramped gravity").
+  std::array<double, 3> gravityAt(double t) const;
 
   // field handles
   RealField pressure, densityRate, colour, colourGradient, curvature, wallVelocity;
@@ -151,6 +162,8 @@ class FluidModule : public Module {
 
  private:
   void initialiseHydrostatic(Simulation& sim);
+  /// sim.published.fluidGravity = gravityAt(sim.time).
+  void publishGravity(Simulation& sim) const;
   /// Refuses a sound speed below the flow speed the scene implies (InputError naming the key),
   /// warns below 3 x that.
   void checkSoundSpeeds(const Simulation& sim) const;
@@ -204,6 +217,7 @@ class FluidModule : public Module {
   std::vector<unsigned char> wetFlag_;  // constitutive stage: boundary particle has a fluid neighbour
   Index wetBuild_ = -1, wetCount_ = -1;  // neighbour search and store size of the flags
   std::vector<double> gravity_;
+  TimeSchedule gravitySchedule_;  // gravity_schedule (factor 1 without it)
   std::vector<BodyForce> bodyForces_;
   bool summation_ = false;
   PressureForm pressureForm_ = PressureForm::Volume;  // Eq. 5.2a, the default (b84d7bb)

@@ -17,6 +17,7 @@
 #include "libcore/fluid_pair_terms.hpp"
 #include "libcore/phases.hpp"
 #include "libcore/simulation.hpp"
+#include "libcore/time_schedule.hpp"
 
 namespace poresph {
 
@@ -1163,7 +1164,7 @@ void RigidModule::constrain(RigidBody& B, const V3& F, const V3& T, V3& acc, V3&
   if (rm.plate) {
     const V3 dir(rm.plateDirection[0], rm.plateDirection[1], rm.plateDirection[2]);
     // Ramped like the solid's and the drainage module's loads (no step: no stress wave).
-    const double ramp = rm.plateRampTime > 0.0 ? std::min(1.0, time_ / rm.plateRampTime) : 1.0;
+    const double ramp = linearRamp(time_, rm.plateRampTime);  // libcore/time_schedule.hpp
     const double load = rm.plateStress * rm.plateArea * ramp;
     acc = ((F.dot(dir) + load) / M - rm.damping * B.state.V.dot(dir)) * dir;
     return;

@@ -26,9 +26,11 @@
 //   max(0.2, its value at the ramp's start + 0.1) and 0.8 during the ramp, extrapolated to 0 (with equal viscosities the loop's resistance does not change
 //   as gas replaces water, so the rate is proportional to the excess drive).
 // Asserted at both rates: order 3w, 2w, w; zero-rate threshold within 10 % of Young-Laplace;
-// every slit drained (S > 0.8) at the end. The ramp is applied through FluidModule::gravity()
-// (set before every step; the fluid module then uses it in the force and in the walls'
-// hydrostatic pressure extrapolation alike).
+// every slit drained (S > 0.8) at the end. The ramp is the fluid section's `gravity_schedule`
+// (docs/fluid.md "Ramped gravity"): gravity [f1, 0] times a factor held at f0 / f1 to 30 ms and
+// interpolated exponentially to 1 at the ramp's end, which the fluid module applies at every
+// evaluation's time in the force and in the walls' hydrostatic pressure extrapolation alike
+// (samples/fluid_pc_staircase_2d.yaml writes the same keys).
 //
 // Hooks for manual studies (records then go to validation-records-explore): PCS_TAU (s; the
 // rates are tau and 2 tau), PCS_W (slit width in dx), PCS_MU (Pa s), PCS_HOLE (barrier hole in
@@ -61,6 +63,8 @@ bool exploring() {
 
 struct Staircase {
   Simulation sim{2};
+  double f0 = 0, f1 = 0, tRamp = 0;  // drive held at f0, ramped exponentially to f1 at tRamp
+  static constexpr double tSettle = 0.03;  // held at f0 first: the menisci form from the flat start
   FluidModule* fluid = nullptr;
   fs::Stepper stepper;
   double dx = 1e-4;
@@ -81,7 +85,7 @@ struct Staircase {
       if (x[1] > y0[k] && x[1] < y1[k]) return k;
     return -1;
   }
-  Staircase() {
+  explicit Staircase(double tau) {
     W = static_cast<int>(env("PCS_W", W));
     mu = env("PCS_MU", mu);
     w = W * dx;
@@ -103,14 +107,22 @@ struct Staircase {
     sim.domain.lo = {0, -t, 0};
     sim.domain.hi = {Lx, H + t, 0};
     sim.domain.periodic = {true, false, false};
-    char buf[300];
+    char buf[500];
     std::snprintf(buf, sizeof buf, "{density: %g, sound_speed: %g, viscosity: %g, colour: 1, background_pressure: %g}", rho, c, mu, pb);
     const int water = fs::addMaterial(sim, "water", "fluid", buf);
     std::snprintf(buf, sizeof buf, "{density: %g, sound_speed: %g, viscosity: %g, colour: -1, background_pressure: %g}", rho, c, mu, pb);
     gas = fs::addMaterial(sim, "gas", "fluid", buf);
     std::snprintf(buf, sizeof buf, "{density: 1000, contact_angle: %g}", thetaDeg);
     const int wall = fs::addMaterial(sim, "wall", "wall", buf);
-    std::snprintf(buf, sizeof buf, "{surface_tension: %g, gravity: [0, 0]}", gamma);
+    // the drive: f0 = 0.7 x the 3w threshold's, ramped with f0 exp((t - tSettle) / tau) to
+    // f1 = 1.25 x the w threshold's (gravity_schedule, exponential between its points)
+    f0 = 0.7 * forceFor(pcSlit(2));
+    f1 = 1.25 * forceFor(pcSlit(0));
+    tRamp = tSettle + tau * std::log(f1 / f0);
+    std::snprintf(buf, sizeof buf,
+                  "{surface_tension: %g, gravity: [%.17g, 0], gravity_schedule: {times: [0, %.17g, %.17g], "
+                  "factors: [%.17g, %.17g, 1], interpolation: exponential}}",
+                  gamma, f1, tSettle, tRamp, f0 / f1, f0 / f1);
     fluid = fs::addFluidModule(sim, buf);
     const double hole = env("PCS_HOLE", 6) * dx, bar = 3 * dx;
     auto solid = [=](const double* x) {
@@ -142,14 +154,6 @@ struct Staircase {
         const int k = slitOf(x + 2 * i);
         if (k >= 0) ++slitCount[static_cast<size_t>(k)];
       }
-  }
-  void setForce(double f) {
-    // FluidModule keeps its gravity for the force and the walls' hydrostatic extrapolation; the
-    // module has no setter, so the test writes the vector it returns (the object is not const).
-    auto& g = const_cast<std::vector<double>&>(fluid->gravity());
-    g[0] = f;
-    g[1] = 0.0;
-    sim.published.fluidGravity[0] = f;
   }
   // Gas saturation of each slit (gas particles in the slit / particles it held at t = 0).
   void saturation(double* S) const {
@@ -189,12 +193,10 @@ struct RampResult {
 
 RampResult runRamp(double tau, const char* tag) {
   test::Stopwatch clock;
-  Staircase e;
+  Staircase e(tau);
   RampResult r;
   for (int k = 0; k < 3; ++k) r.pcSlit[k] = e.pcSlit(k);
-  const double f0 = 0.7 * e.forceFor(e.pcSlit(2)), f1 = 1.25 * e.forceFor(e.pcSlit(0));
-  const double tSettle = 0.03;  // held at f0 first: the menisci form from the flat start
-  const double tRamp = tSettle + tau * std::log(f1 / f0), tEnd = tRamp + 0.25 * tau;
+  const double tSettle = Staircase::tSettle, tRamp = e.tRamp, tEnd = tRamp + 0.25 * tau;
   std::vector<double> ts, pcs, ss[3];
   r.particles = static_cast<int>(e.sim.store.realCount());
   std::ofstream csv(std::string(PORESPH_BINARY_DIR) + "/fluid_pc_staircase_" + tag + ".csv");
@@ -205,8 +207,8 @@ RampResult runRamp(double tau, const char* tag) {
   int nDone = 0;
   double nextOut = 0.0;
   while (e.sim.time < tEnd) {
-    const double f = f0 * std::exp(std::max(0.0, std::min(e.sim.time, tRamp) - tSettle) / tau);
-    e.setForce(f);
+    // the drive of this step (the fluid module evaluates it at the same sim.time)
+    const double f = e.fluid->gravityAt(e.sim.time)[0];
     e.stepper.step(e.sim, 1e300);
     if (e.sim.time >= nextOut || e.sim.time >= tEnd) {
       nextOut += 0.002;  // samples every 2 ms
