@@ -951,6 +951,21 @@ void ElasticSolidModule::kinematicsDim(Simulation& sim) {
   if (anyMirror_ || formulation_ == Formulation::TotalLagrangian) rebuildIdMap(sim);
   if (anyMirror_) applyMirrors<D>(sim);
   if (s.ghostCount() > 0) s.refreshGhosts(disp_);
+  // The pair's relative displacement u_b - u_a by minimum image: u is each particle's own
+  // minimum image of x - X, which jumps by a period where a particle has slid past half a
+  // period from its reference; the pair's difference, (x_b - x_a) - (X_b - X_a), stays small.
+  // Without it a strip sliding more than L/2 along a periodic axis inverted (J < 0) where its
+  // particles straddled the jump (tests/unit/test_solid_periodic_slide.cpp). |d| < L/4 needs no
+  // rounding (the shift is 0), so the common case costs one comparison per axis.
+  const bool periodicU = period[0] > 0.0 || period[1] > 0.0 || period[2] > 0.0;
+  auto relative = [&](const double* ub, const Vec<D>& ua) {
+    Vec<D> d = Eigen::Map<const Vec<D>>(ub) - ua;
+    if (periodicU)
+      for (int a = 0; a < D; ++a)
+        if (period[a] > 0.0 && std::abs(d[a]) >= 0.25 * period[a])
+          d[a] -= period[a] * std::round(d[a] / period[a]);
+    return d;
+  };
 
   if (formulation_ == Formulation::TotalLagrangian) {
     const std::int32_t* fam = famIds_.data();
@@ -971,7 +986,7 @@ void ElasticSolidModule::kinematicsDim(Simulation& sim) {
         const Index j = idx[fam[q]];
         const double Vj = V0[j];  // m_j / rho0_j
         const Vec<D> g = Eigen::Map<const Vec<D>>(G + q * D);
-        Fi.noalias() += Vj * (Eigen::Map<const Vec<D>>(u + j * D) - ui) * g.transpose();  // 2.67
+        Fi.noalias() += Vj * relative(u + j * D, ui) * g.transpose();  // 2.67
       }
       Eigen::Map<Mat<D>>(F + i * D * D) = Fi;
       if (!(Fi.determinant() > 0.0)) bad = std::min(bad, i);
@@ -1033,7 +1048,7 @@ void ElasticSolidModule::kinematicsDim(Simulation& sim) {
       const Vec<D> rij = xi - Eigen::Map<const Vec<D>>(x + j * D);
       const Vec<D> g = view.gradient<D>(i, W.gradient<D>(rij), W.value(rij.norm()));
       const double Vj = m[j] / rho[j];
-      gu.noalias() += Vj * (Eigen::Map<const Vec<D>>(u + j * D) - ui) * g.transpose();  // 2.82
+      gu.noalias() += Vj * relative(u + j * D, ui) * g.transpose();  // 2.82
       gv.noalias() += Vj * (Eigen::Map<const Vec<D>>(v + j * D) - vi) * g.transpose();  // 2.83
     }
     Eigen::Map<Mat<D>>(eps + i * D * D) = 0.5 * (gu + gu.transpose());
@@ -1349,6 +1364,11 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
   const NeighbourList& sn = solidNeighbours_;
   const CorrectionView view = corrFields_.view(s, Correction::Mixed, W);
   const bool displacementForm = formulation_ == Formulation::SmallStrainDisplacement;
+  // u_a - u_b by minimum image along periodic axes (as in kinematics: u jumps by a period where
+  // a particle has slid past half a period)
+  double periodU[3] = {0.0, 0.0, 0.0};
+  for (int a = 0; a < D; ++a)
+    if (sim.domain.periodic[static_cast<size_t>(a)]) periodU[a] = sim.domain.length(a);
 #pragma omp parallel for schedule(static) if (n > 512)
   for (Index i = 0; i < n; ++i) {
     if (!isMine(i)) continue;
@@ -1374,7 +1394,10 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
       if (displacementForm) {
         // Eqs. 2.88-2.90: rho a = mu lap(u) + (lambda + mu) grad(div u), with the
         // second derivatives of Eq. 2.89: sum_b V_b [(D+2) e_j e_k - delta_jk] (u_a - u_b) F_ab.
-        const Vec<D> uij = ui - Eigen::Map<const Vec<D>>(u + j * D);
+        Vec<D> uij = ui - Eigen::Map<const Vec<D>>(u + j * D);
+        for (int a = 0; a < D; ++a)
+          if (periodU[a] > 0.0 && std::abs(uij[a]) >= 0.25 * periodU[a])
+            uij[a] -= periodU[a] * std::round(uij[a] / periodU[a]);
         const double lam = 0.5 * (e.lambda + ej.lambda), mu = 0.5 * (e.mu + ej.mu);
         f.noalias() += Vj * W.F(r) *
                        ((mu - lam) * uij + (lam + mu) * (D + 2) * rij * (rij.dot(uij) / (r * r)));
