@@ -16,6 +16,7 @@
 #include "libcore/consistent_load.hpp"
 #include "libcore/corrections.hpp"
 #include "libcore/periodic_images.hpp"
+#include "libcore/time_schedule.hpp"
 
 namespace poresph::solid {
 
@@ -30,14 +31,7 @@ std::string fmt(double v) {
   return s.str();
 }
 
-double ramp(double t, double rampTime) {
-  if (rampTime <= 0.0) return 1.0;
-  return std::min(1.0, std::max(0.0, t / rampTime));
-}
-double rampRate(double t, double rampTime) {
-  if (rampTime <= 0.0) return 0.0;
-  return (t >= 0.0 && t < rampTime) ? 1.0 / rampTime : 0.0;
-}
+// The loads' ramp_time: libcore linearRamp / linearRampRate (libcore/time_schedule.hpp).
 
 // Isotropic law sigma = lambda tr(eps) 1 + 2 mu eps (Eqs. 2.74, 2.84 in Lame form: k = lambda +
 // 2 mu / 3 in 3D; in 1D and plane stress lambda is the reduced one, see lameParameters()).
@@ -1342,7 +1336,7 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
       const Vec<D> extra = fav - e.damping * vi;
       if (xsphRate) Eigen::Map<Vec<D>>(xsphRate + i * D) += e.xsph * dvx;
       const Vec<D> fext = Eigen::Map<const Vec<D>>(fb + i * D) *
-                          (bc[i] > 0 ? ramp(t, boundaries_[static_cast<size_t>(bc[i] - 1)].rampTime) : 0.0);
+                          (bc[i] > 0 ? linearRamp(t, boundaries_[static_cast<size_t>(bc[i] - 1)].rampTime) : 0.0);
       for (int c = 0; c < D; ++c) acc[i * D + c] += a[c] + extra[c] + fext[c] / m[i];
       if (motion[i] == kMotionFree) workRate[i * 3 + 1] += vi.dot(fext);
       // Dissipation (viscosity, damping) on every moving particle: on an imposed-velocity
@@ -1417,7 +1411,7 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
     const Vec<D> extra = fav - e.damping * vi;
     if (xsphRate) Eigen::Map<Vec<D>>(xsphRate + i * D) += e.xsph * dvx;
     const Vec<D> fext = Eigen::Map<const Vec<D>>(fb + i * D) *
-                        (bc[i] > 0 ? ramp(t, boundaries_[static_cast<size_t>(bc[i] - 1)].rampTime) : 0.0);
+                        (bc[i] > 0 ? linearRamp(t, boundaries_[static_cast<size_t>(bc[i] - 1)].rampTime) : 0.0);
     for (int c = 0; c < D; ++c) acc[i * D + c] += a[c] + extra[c] + fext[c] / m[i];
     if (motion[i] == kMotionFree) workRate[i * 3 + 1] += vi.dot(fext);
     if (motion[i] != kMotionFixed) workRate[i * 3 + 2] -= m[i] * vi.dot(extra);  // as in TL
@@ -1456,9 +1450,9 @@ void ElasticSolidModule::constraintsDim(Simulation& sim) {
       }
     } else if (B.type == BoundaryType::Velocity || B.type == BoundaryType::Displacement) {
       // imposed velocity ramp, or the constant velocity of a displacement ramp
-      const double r = B.type == BoundaryType::Velocity ? ramp(t, B.rampTime)
-                                                        : rampRate(t, B.rampTime);
-      const double rdot = B.type == BoundaryType::Velocity ? rampRate(t, B.rampTime) : 0.0;
+      const double r = B.type == BoundaryType::Velocity ? linearRamp(t, B.rampTime)
+                                                        : linearRampRate(t, B.rampTime);
+      const double rdot = B.type == BoundaryType::Velocity ? linearRampRate(t, B.rampTime) : 0.0;
       double power = 0.0;
       for (int c = 0; c < D; ++c) {
         if (!B.imposed[static_cast<size_t>(c)]) continue;  // free component (roller)
@@ -1735,7 +1729,7 @@ void ElasticSolidModule::diagnostics(const Simulation& sim,
     for (int a = 0; a < sim.dimension(); ++a)
       if (B.imposed[static_cast<size_t>(a)])
         columns.emplace_back("solid_imposed_" + name + "_" + "xyz"[a],
-                             B.value[static_cast<size_t>(a)] * ramp(sim.time, B.rampTime));
+                             B.value[static_cast<size_t>(a)] * linearRamp(sim.time, B.rampTime));
   }
   columns.emplace_back("solid_energy_balance", ke + el + hg - w[0] - w[1] + w[2] + dd);
 }
