@@ -210,6 +210,78 @@ void paletteOf(const T* v, std::size_t count, std::vector<std::uint64_t>& palett
   palette.assign(pal, pal + k);
 }
 
+// paletteOf with codes, in parallel (issue 17: the serial passes of the rollback copy): the
+// values in kChunks fixed chunks, each coded against its own palette (in order of first appearance
+// within the chunk), then the chunks' palettes merged in chunk order, which gives the palette of
+// the whole field in order of first appearance, and the codes renumbered where a chunk's order
+// differs. The palette and codes are those of paletteOf whatever the thread count; with more
+// than kPaletteSize values (in one chunk or in all) palette.size() > kPaletteSize and the codes
+// are not to be used.
+constexpr int kChunks = 64;
+template <class T>
+void paletteCodesParallel(const T* v, std::size_t count, std::vector<std::uint64_t>& palette,
+                          std::uint8_t* code) {
+  constexpr int K = RollbackState::kPaletteSize;
+  std::uint64_t pal[kChunks][K];
+  int size[kChunks];
+  std::uint8_t map[kChunks][K];
+#pragma omp parallel for schedule(static)
+  for (int c = 0; c < kChunks; ++c) {
+    const std::size_t q0 = count * static_cast<std::size_t>(c) / kChunks,
+                      q1 = count * static_cast<std::size_t>(c + 1) / kChunks;
+    std::uint64_t* pc = pal[c];
+    int k = 0, last = 0;
+    for (std::size_t q = q0; q < q1; ++q) {
+      const std::uint64_t b = bitsOf(v[q]);
+      if (k == 0 || pc[last] != b) {
+        int m = 0;
+        while (m < k && pc[m] != b) ++m;
+        if (m == k) {
+          if (k == K) {
+            k = K + 1;  // too many in this chunk alone
+            break;
+          }
+          pc[k++] = b;
+        }
+        last = m;
+      }
+      code[q] = static_cast<std::uint8_t>(last);
+    }
+    size[c] = k;
+  }
+  palette.clear();
+  bool renumber = false;
+  for (int c = 0; c < kChunks; ++c) {
+    if (size[c] > K) {
+      palette.assign(static_cast<std::size_t>(K) + 1, 0);  // too many: the caller copies plainly
+      return;
+    }
+    for (int m = 0; m < size[c]; ++m) {
+      std::size_t g = 0;
+      while (g < palette.size() && palette[g] != pal[c][m]) ++g;
+      if (g == palette.size()) {
+        if (static_cast<int>(g) == K) {
+          palette.push_back(pal[c][m]);
+          return;
+        }
+        palette.push_back(pal[c][m]);
+      }
+      map[c][m] = static_cast<std::uint8_t>(g);
+      renumber = renumber || static_cast<int>(g) != m;
+    }
+  }
+  if (!renumber) return;
+#pragma omp parallel for schedule(static)
+  for (int c = 0; c < kChunks; ++c) {
+    bool same = true;
+    for (int m = 0; m < size[c]; ++m) same = same && map[c][m] == m;
+    if (same) continue;
+    const std::size_t q0 = count * static_cast<std::size_t>(c) / kChunks,
+                      q1 = count * static_cast<std::size_t>(c + 1) / kChunks;
+    for (std::size_t q = q0; q < q1; ++q) code[q] = map[c][code[q]];
+  }
+}
+
 // Whether field f may be copied in single precision: flagged so, and for the positions, no
 // solid or rigid particle in the store (their positions define strain and body shape).
 bool singleAllowed(const ParticleStore& st, int f, bool everyField) {
@@ -218,29 +290,52 @@ bool singleAllowed(const ParticleStore& st, int f, bool everyField) {
     return false;
   if (f != st.position().id) return true;
   const std::int32_t* phase = st.data(st.phase());
-  for (Index i = 0; i < st.realCount(); ++i)
-    if (phase[i] == kPhaseSolid || phase[i] == kPhaseRigid) return false;
-  return true;
+  const Index n = st.realCount();
+  int body = 0;
+#pragma omp parallel for simd schedule(static) reduction(| : body)
+  for (Index i = 0; i < n; ++i) body |= (phase[i] == kPhaseSolid) | (phase[i] == kPhaseRigid);
+  return body == 0;
 }
 
 // Range of each of the NC components of count / NC values (lo = min, hi = max, std::min /
 // std::max in index order: the same results as one pass per component), in one pass over memory.
+// In parallel (issue 17): min and max are exact, so the chunks' ranges merged in any order give
+// the same values for finite data (the copied state passed checkFinite; a signed zero may come
+// out with either sign, which the offset's test lo > 0 || hi < 0 does not see).
 template <int NC>
 void componentRange(const double* p, std::size_t count, double* lo, double* hi) {
-  for (int a = 0; a < NC; ++a) lo[a] = hi[a] = p[a];
-  for (std::size_t k = 0; k < count; k += NC)
+  double l[NC], h[NC];
+  for (int a = 0; a < NC; ++a) l[a] = h[a] = p[a];
+  const std::size_t rows = count / NC;
+#pragma omp parallel for schedule(static) reduction(min : l[:NC]) reduction(max : h[:NC])
+  for (std::size_t i = 0; i < rows; ++i)
     for (int a = 0; a < NC; ++a) {
-      lo[a] = std::min(lo[a], p[k + static_cast<std::size_t>(a)]);
-      hi[a] = std::max(hi[a], p[k + static_cast<std::size_t>(a)]);
+      l[a] = std::min(l[a], p[i * NC + static_cast<std::size_t>(a)]);
+      h[a] = std::max(h[a], p[i * NC + static_cast<std::size_t>(a)]);
     }
+  for (int a = 0; a < NC; ++a) {
+    lo[a] = l[a];
+    hi[a] = h[a];
+  }
 }
 template <int NC>
 void toSingle(const double* p, std::size_t count, const double* off, float* q) {
-  for (std::size_t k = 0; k < count; k += NC)
+  const std::size_t rows = count / NC;
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < rows; ++i)
     for (int a = 0; a < NC; ++a) {
-      const std::size_t m = k + static_cast<std::size_t>(a);
+      const std::size_t m = i * NC + static_cast<std::size_t>(a);
       q[m] = static_cast<float>(p[m] - off[a]);
     }
+}
+// A plain copy in parallel (the Double and Int columns; resize allocates only when the column
+// grows or was released).
+template <class T>
+void copyParallel(const T* p, std::size_t count, std::vector<T>& out) {
+  out.resize(count);
+  T* o = out.data();
+#pragma omp parallel for simd schedule(static)
+  for (std::size_t k = 0; k < count; ++k) o[k] = p[k];
 }
 
 }  // namespace
@@ -323,9 +418,15 @@ bool RollbackState::capture(const Simulation& sim) {
       // (the count stops at the 17th distinct value: a few values for a field of many), then
       // coded in a second pass if it fits.
       const bool onePass = col.storage == Storage::Palette;
-      if (onePass) col.code.resize(count);
-      if (real) paletteOf(st.data(rf), count, col.palette, onePass ? col.code.data() : nullptr);
-      else paletteOf(st.data(inf), count, col.palette, onePass ? col.code.data() : nullptr);
+      if (onePass) {
+        col.code.resize(count);
+        if (real) paletteCodesParallel(st.data(rf), count, col.palette, col.code.data());
+        else paletteCodesParallel(st.data(inf), count, col.palette, col.code.data());
+      } else if (real) {
+        paletteOf(st.data(rf), count, col.palette, nullptr);
+      } else {
+        paletteOf(st.data(inf), count, col.palette, nullptr);
+      }
       if (count == 0 || static_cast<int>(col.palette.size()) > kPaletteSize) {
         want = real ? Storage::Double : Storage::Int;
       } else if (!onePass) {
@@ -339,11 +440,9 @@ bool RollbackState::capture(const Simulation& sim) {
     col.releaseAllBut(want);
     col.storage = want;
     if (want == Storage::Double) {
-      const double* p = st.data(RealField{static_cast<int>(f)});
-      col.real.assign(p, p + count);
+      copyParallel(st.data(RealField{static_cast<int>(f)}), count, col.real);
     } else if (want == Storage::Int) {
-      const std::int32_t* p = st.data(IntField{static_cast<int>(f)});
-      col.ints.assign(p, p + count);
+      copyParallel(st.data(IntField{static_cast<int>(f)}), count, col.ints);
     } else if (want == Storage::Single) {
       // Per component: the float of the value minus the middle of its range when the range
       // excludes 0 (positions in a box, density around rho0: the rounding is then 2^-24 of the

@@ -2,6 +2,7 @@
 // output fields are copied, constant fields follow their particles through a reorder, the copy
 // is taken every `rollback_every` steps, and the scene key is checked.
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <yaml-cpp/yaml.h>
 
@@ -94,6 +95,53 @@ TEST(Rollback, CopiesCheckpointAndOutputFieldsButNotScratchOrConstantOnes) {
     EXPECT_EQ(st.data(f.intCkpt)[2 * i], 3 * id[i]);
     EXPECT_EQ(st.data(f.none)[3 * i], -5.0);  // scratch is not copied: left as it was
   }
+}
+
+TEST(Rollback, PaletteFieldsAreCodedInParallelChunksAndRestoredExactly) {
+  // The palette of a field that was a palette at the last capture is coded in 64 chunks in
+  // parallel (issue 17) and the chunks' palettes merged: values first seen in different orders
+  // in different chunks, a palette of exactly 16 values, and one with a 17th value only in the
+  // last chunk (then copied plainly), all restored bit for bit, whatever the thread count.
+  const int saved = omp_get_max_threads();
+  for (int threads : {1, 2, 3}) {
+    omp_set_num_threads(threads);
+    Simulation sim(2);
+    ParticleStore& st = sim.store;
+    const RealField mixed = st.addReal("mixed", 1, kFieldOutput, "test");
+    const IntField sixteen = st.addInt("sixteen", 2, kFieldCheckpoint, "test");
+    const IntField late = st.addInt("late", 1, kFieldCheckpoint, "test");
+    const Index n = 3000;
+    st.addParticles(n);
+    auto set = [&](int round) {
+      for (Index i = 0; i < n; ++i) {
+        // Chunk-dependent order: 2.5 first in the low half, -1.0 first in the high half.
+        st.data(mixed)[i] = (i < n / 2) == (i % 7 == 0) ? -1.0 : 2.5 + round;
+        for (int q = 0; q < 2; ++q) st.data(sixteen)[2 * i + q] = static_cast<std::int32_t>((n - i + q) % 16);
+        st.data(late)[i] = i == n - 1 && round == 1 ? 99 : static_cast<std::int32_t>(i % 16);
+      }
+    };
+    RollbackState r;
+    for (int round = 0; round < 2; ++round) {  // round 1: the one-pass (parallel) coding
+      set(round);
+      sim.step = round;
+      ASSERT_TRUE(r.capture(sim));
+      for (Index i = 0; i < n; ++i) {
+        st.data(mixed)[i] = 0.0;
+        st.data(sixteen)[2 * i] = -7;
+        st.data(late)[i] = -7;
+      }
+      ASSERT_TRUE(r.restore(sim));
+      std::vector<double> m(st.data(mixed), st.data(mixed) + n);
+      std::vector<std::int32_t> s16(st.data(sixteen), st.data(sixteen) + 2 * n),
+          lt(st.data(late), st.data(late) + n);
+      set(round);
+      EXPECT_EQ(m, std::vector<double>(st.data(mixed), st.data(mixed) + n)) << threads << " " << round;
+      EXPECT_EQ(s16, std::vector<std::int32_t>(st.data(sixteen), st.data(sixteen) + 2 * n))
+          << threads << " " << round;
+      EXPECT_EQ(lt, std::vector<std::int32_t>(st.data(late), st.data(late) + n)) << threads << " " << round;
+    }
+  }
+  omp_set_num_threads(saved);
 }
 
 TEST(Rollback, AReorderAfterTheCopyIsUndoneSoConstantFieldsStayWithTheirParticles) {
