@@ -47,11 +47,7 @@ class PairScatter {
   /// exact lists filtered from candidates until the next search): lay out on the candidates
   /// once per search, then use() per loop, which never allocates.
   void layout(const NeighbourList& nl, Index nReal, int maxWidth) {
-    nt_ = std::max(1, omp_get_max_threads());
-    n_ = nReal;
-    block_.resize(static_cast<size_t>(nt_) + 1);
-    spillEnd_.resize(static_cast<size_t>(nt_));
-    if (spill_.size() < static_cast<size_t>(nt_)) spill_.resize(static_cast<size_t>(nt_));
+    beginLayout(nReal);
     const std::int64_t* off = nl.offset.data();
     const std::int64_t total = nReal > 0 ? off[nReal] : 0;
     block_[0] = 0;
@@ -63,20 +59,50 @@ class PairScatter {
       block_[static_cast<size_t>(t)] = std::max(block_[static_cast<size_t>(t)], block_[static_cast<size_t>(t) - 1]);
     }
     block_[static_cast<size_t>(nt_)] = nReal;
-    const std::uint32_t* idx = nl.index.data();
-    const Index n = nReal;
-#pragma omp parallel for schedule(static, 1) num_threads(nt_)
-    for (int t = 0; t < nt_; ++t) {
-      const Index b1 = block_[static_cast<size_t>(t) + 1];
-      Index hi = b1;
-      const std::int64_t k0 = off[block_[static_cast<size_t>(t)]], k1 = off[b1];
-      for (std::int64_t k = k0; k < k1; ++k) {
-        const Index j = static_cast<Index>(idx[k]);
-        hi = (j < n && j >= hi) ? j + 1 : hi;
-      }
-      spillEnd_[static_cast<size_t>(t)] = hi;
+    finishLayout(nl, maxWidth);
+  }
+  /// layout() with the blocks balanced by a weight per row (rowWeight(i) >= 0, called in
+  /// parallel, twice for some rows) instead of the row's list entries: the work the loops do in
+  /// the row, e.g. its entries that are evaluated (issue 17: rows of boundary particles without a
+  /// fluid neighbour hold entries and no work, which left one thread ~15 % more of the force
+  /// loop on the dam breaks). The blocks only change the order in which a particle's sums from
+  /// several blocks are added, not the sums.
+  template <class RowWeight>
+  void layoutWeighted(const NeighbourList& nl, Index nReal, int maxWidth, RowWeight&& rowWeight) {
+    beginLayout(nReal);
+    // Prefix of the weights over kChunksPerThread chunks of rows per thread, then each block
+    // boundary found inside its chunk (no per-row array: no memory per particle).
+    const int nc = kChunksPerThread * nt_;
+    chunkWeight_.assign(static_cast<size_t>(nc) + 1, 0);
+    std::int64_t* cw = chunkWeight_.data();
+#pragma omp parallel for schedule(static) num_threads(nt_)
+    for (int c = 0; c < nc; ++c) {
+      const Index r0 = nReal * c / nc, r1 = nReal * (c + 1) / nc;
+      std::int64_t sum = 0;
+      for (Index i = r0; i < r1; ++i) sum += rowWeight(i);
+      cw[c + 1] = sum;
     }
-    allocate(maxWidth);
+    for (int c = 0; c < nc; ++c) cw[c + 1] += cw[c];
+    const std::int64_t total = cw[nc];
+    block_[0] = 0;
+    block_[static_cast<size_t>(nt_)] = nReal;
+#pragma omp parallel for schedule(static) num_threads(nt_)
+    for (int t = 1; t < nt_; ++t) {
+      // The first row r with (weight of the rows before r) >= target, as layout()'s lower_bound.
+      const std::int64_t target = total * t / nt_;
+      const int c = static_cast<int>(std::lower_bound(cw, cw + nc + 1, target) - cw);
+      Index r = 0;
+      if (c > 0) {
+        r = nReal * (c - 1) / nc;
+        std::int64_t wsum = cw[c - 1];
+        const Index rEnd = nReal * c / nc;
+        while (r < rEnd && wsum < target) wsum += rowWeight(r++);
+      }
+      block_[static_cast<size_t>(t)] = r;
+    }
+    for (int t = 1; t < nt_; ++t)
+      block_[static_cast<size_t>(t)] = std::max(block_[static_cast<size_t>(t)], block_[static_cast<size_t>(t) - 1]);
+    finishLayout(nl, maxWidth);
   }
   /// The layout without a list (the cell walk, libcore/cell_walk.hpp cellWalkBlocks): the rows
   /// [blockBegin[t], blockBegin[t+1]) of each of blockBegin.size() - 1 blocks and the spill end
@@ -100,6 +126,32 @@ class PairScatter {
   Index spillEnd(int t) const { return spillEnd_[static_cast<size_t>(t)]; }
 
  private:
+  static constexpr int kChunksPerThread = 64;
+  void beginLayout(Index nReal) {
+    nt_ = std::max(1, omp_get_max_threads());
+    n_ = nReal;
+    block_.resize(static_cast<size_t>(nt_) + 1);
+    spillEnd_.resize(static_cast<size_t>(nt_));
+    if (spill_.size() < static_cast<size_t>(nt_)) spill_.resize(static_cast<size_t>(nt_));
+  }
+  // The spill end of each block (a scan of its rows' entries) and the buffers.
+  void finishLayout(const NeighbourList& nl, int maxWidth) {
+    const std::int64_t* off = nl.offset.data();
+    const std::uint32_t* idx = nl.index.data();
+    const Index n = n_;
+#pragma omp parallel for schedule(static, 1) num_threads(nt_)
+    for (int t = 0; t < nt_; ++t) {
+      const Index b1 = block_[static_cast<size_t>(t) + 1];
+      Index hi = b1;
+      const std::int64_t k0 = off[block_[static_cast<size_t>(t)]], k1 = off[b1];
+      for (std::int64_t k = k0; k < k1; ++k) {
+        const Index j = static_cast<Index>(idx[k]);
+        hi = (j < n && j >= hi) ? j + 1 : hi;
+      }
+      spillEnd_[static_cast<size_t>(t)] = hi;
+    }
+    allocate(maxWidth);
+  }
   void allocate(int maxWidth) {
     maxWidth_ = maxWidth;
     const std::int64_t before = allocations_;
@@ -173,7 +225,8 @@ class PairScatter {
   }
   /// Bytes held by the spill buffers.
   std::size_t bytes() const {
-    std::size_t b = (block_.capacity() + spillEnd_.capacity()) * sizeof(Index);
+    std::size_t b = (block_.capacity() + spillEnd_.capacity()) * sizeof(Index) +
+                    chunkWeight_.capacity() * sizeof(std::int64_t);
     for (const auto& s : spill_) b += s.capacity() * sizeof(double);
     return b;
   }
@@ -197,6 +250,7 @@ class PairScatter {
   int nt_ = 0, w_ = 0, maxWidth_ = 0;
   Index n_ = 0;
   std::vector<Index> block_, spillEnd_;
+  std::vector<std::int64_t> chunkWeight_;  // layoutWeighted's prefix over chunks of rows
   std::vector<std::vector<double>> spill_;
   std::int64_t allocations_ = 0, layouts_ = 0, layoutsThatGrew_ = 0;
 };

@@ -187,7 +187,22 @@ void FluidModule::layoutHalf(Simulation& sim, int width) {
                      std::max(1, omp_get_max_threads()), walkBlocks_, walkSpill_, walkScratch_);
       scatter_.layoutBlocks(walkBlocks_, walkSpill_, n, maxWidth);
     } else {
-      scatter_.layout(sim.neighbourCandidates(), n, maxWidth);
+      // Blocks balanced by the entries the loops evaluate (issue 17, docs/performance.md
+      // "Serial fraction"): every entry of a fluid row, and of a boundary row only its real fluid
+      // neighbours (the others, and every entry of a dry boundary row, are skipped).
+      const NeighbourList& cand = sim.neighbourCandidates();
+      const std::int32_t* ph = sim.store.data(sim.store.phase());
+      const std::int64_t* off = cand.offset.data();
+      const std::uint32_t* idx = cand.index.data();
+      scatter_.layoutWeighted(cand, n, maxWidth, [=](Index i) -> std::int64_t {
+        if (ph[i] == kPhaseFluid) return off[i + 1] - off[i];
+        std::int64_t c = 0;
+        for (std::int64_t k = off[i]; k < off[i + 1]; ++k) {
+          const Index j = static_cast<Index>(idx[k]);
+          c += (j < n && ph[j] == kPhaseFluid) ? 1 : 0;
+        }
+        return c;
+      });
     }
     if (pairSum_.size() < static_cast<size_t>(n * maxWidth))
       pairSum_.resize(static_cast<size_t>(n * maxWidth));

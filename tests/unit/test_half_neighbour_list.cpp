@@ -153,6 +153,71 @@ TEST(HalfNeighbourList, ScatterAddsEveryPairOnceToBothSidesWhateverTheThreads) {
   omp_set_num_threads(saved);
 }
 
+TEST(HalfNeighbourList, WeightedBlocksBalanceTheWeightAndScatterTheSameSums) {
+  // layoutWeighted (issue 17): blocks split by a weight per row, here the entries of every third
+  // row of the first quarter only (the others weigh 0, as a dry boundary row does in the fluid
+  // loops; blocks by entries would give the first block all of it). Each block
+  // holds total / threads of the weight to within one row, and the scatter's sums (exact small
+  // integers) are those of every pair once to each side, whatever the thread count.
+  const int d = 3;
+  const Index nReal = 4000, nTotal = 4300;
+  const std::vector<double> x = cloud(d, nTotal, 0.5, 7u);
+  NeighbourSearch search;
+  NeighbourList half;
+  search.build(x.data(), d, nReal, nTotal, 0.05, half, true);
+  const std::int64_t* off = half.offset.data();
+  auto weight = [&](Index i) -> std::int64_t { return i % 3 == 0 && i < nReal / 4 ? off[i + 1] - off[i] : 0; };
+  std::int64_t total = 0, heaviest = 0;
+  for (Index i = 0; i < nReal; ++i) {
+    total += weight(i);
+    heaviest = std::max(heaviest, weight(i));
+  }
+  auto c = [](Index a, Index b) { return static_cast<double>((a * 5 + b * 11) % 997 + 1); };
+  std::vector<double> expect(static_cast<size_t>(nReal), 0.0);
+  for (Index i = 0; i < nReal; ++i)
+    for (auto k = off[i]; k < off[i + 1]; ++k) {
+      const Index j = half.index[static_cast<size_t>(k)];
+      expect[static_cast<size_t>(i)] += c(i, j);
+      if (j < nReal) expect[static_cast<size_t>(j)] += c(j, i);
+    }
+  const int saved = omp_get_max_threads();
+  for (int threads : {1, 2, 3, 7}) {
+    omp_set_num_threads(threads);
+    PairScatter scatter;
+    scatter.layoutWeighted(half, nReal, 1, weight);
+    scatter.use(1);
+    ASSERT_EQ(scatter.threads(), threads);
+    EXPECT_EQ(scatter.begin(0), 0);
+    EXPECT_EQ(scatter.end(threads - 1), nReal);
+    for (int t = 0; t < threads; ++t) {
+      if (t > 0) EXPECT_EQ(scatter.begin(t), scatter.end(t - 1));
+      std::int64_t w = 0;
+      for (Index i = scatter.begin(t); i < scatter.end(t); ++i) w += weight(i);
+      EXPECT_LE(std::abs(static_cast<double>(w) - static_cast<double>(total) / threads),
+                static_cast<double>(heaviest) + 1.0)
+          << threads << " threads, block " << t;
+    }
+    std::vector<double> own(static_cast<size_t>(nReal), -1.0);
+    double* o = own.data();
+#pragma omp parallel num_threads(scatter.threads())
+    {
+      scatter.forBlocks([&](int t) {
+        scatter.zero(t, o);
+        for (Index i = scatter.begin(t); i < scatter.end(t); ++i)
+          for (auto k = off[i]; k < off[i + 1]; ++k) {
+            const Index j = half.index[static_cast<size_t>(k)];
+            o[i] += c(i, j);
+            if (j < nReal) *scatter.at(t, o, j) += c(j, i);
+          }
+      });
+#pragma omp barrier
+      scatter.forBlocks([&](int t) { scatter.reduce(t, o); });
+    }
+    ASSERT_EQ(own, expect) << threads << " threads";
+  }
+  omp_set_num_threads(saved);
+}
+
 namespace {
 
 // A 2D dam break with walls, viscosity, artificial viscosity, density diffusion and XSPH (set
