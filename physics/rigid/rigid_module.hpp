@@ -115,7 +115,8 @@ class RigidModule : public Module {
   void restoreState(const ModuleState& state) override;
   /// fluid_rigid (extrapolated / mirror; mirror was the default until d8fafdf, 2026-11-23 20:04
   /// UTC, hours after the first commit: the former default taken is extrapolated), recorded in
-  /// checkpoints (Module::settings).
+  /// checkpoints (Module::settings). The resolved value: since 2026-11-28 a scene whose fluid
+  /// also meets elastic solids takes the coupling's fluid_solid model unless it sets the key.
   ModuleSettings settings() const override {
     return {{"rigid.fluid_rigid", fluidModel_ == BoundaryModel::Extrapolated ? "extrapolated" : "mirror",
              "extrapolated"}};
@@ -200,6 +201,9 @@ class RigidModule : public Module {
   std::vector<int> slot_;  // material id -> index in mats_ (-1: not rigid)
   std::array<double, 3> gravity_{0, 0, 0};
   BoundaryModel fluidModel_ = BoundaryModel::Mirror;
+  /// `rigid: {fluid_rigid}` given in the scene; otherwise, where the fluid also meets elastic
+  /// solids, initialise() takes the coupling's fluid_solid model (one model per fluid particle).
+  bool fluidModelSet_ = false;
   IntField body_;
   RealField offset_;
   IntField surface_;  // body particles within one kernel support of the body's surface (A.2)
