@@ -119,7 +119,7 @@ class RigidModule : public Module {
   /// also meets elastic solids takes the coupling's fluid_solid model unless it sets the key.
   ModuleSettings settings() const override {
     return {{"rigid.fluid_rigid", fluidModel_ == BoundaryModel::Extrapolated ? "extrapolated" : "mirror",
-             "extrapolated"}};
+             "extrapolated", "until db33ccb (2026-11-28), also where the fluid meets elastic solids"}};
   }
   double timeStepLimit(const Simulation& sim) const override;
   void diagnostics(const Simulation& sim,
