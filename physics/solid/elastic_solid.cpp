@@ -886,7 +886,14 @@ void ElasticSolidModule::kinematics(Simulation& sim) {
 }
 
 // Positions of this module's particles (packed in store order) and the ids of every real
-// particle, at the last F (the reuse above).
+// particle, at the last F (the reuse above). Both in parallel (issue 17: they were serial passes
+// over every particle at each evaluation and step end): the rows in kSolidChunks fixed chunks,
+// each chunk's solid particles counted, then packed at the chunk's place in store order (the
+// same array as one pass in order).
+namespace {
+constexpr int kSolidChunks = 64;
+}
+
 void ElasticSolidModule::recordSolidPositions(const Simulation& sim) {
   const ParticleStore& s = sim.store;
   const Index n = s.realCount();
@@ -894,10 +901,28 @@ void ElasticSolidModule::recordSolidPositions(const Simulation& sim) {
   const std::int32_t* mat = s.data(s.material());
   const double* x = s.data(s.position());
   const std::int32_t* ids = s.data(s.id());
-  fIds_.assign(ids, ids + n);
-  fPositions_.clear();
-  for (Index i = 0; i < n; ++i)
-    if (slotOf(mat[i]) >= 0) fPositions_.insert(fPositions_.end(), x + i * d, x + (i + 1) * d);
+  Index start[kSolidChunks + 1];
+  start[0] = 0;
+#pragma omp parallel for schedule(static)
+  for (int c = 0; c < kSolidChunks; ++c) {
+    Index k = 0;
+    for (Index i = n * c / kSolidChunks; i < n * (c + 1) / kSolidChunks; ++i) k += slotOf(mat[i]) >= 0;
+    start[c + 1] = k;
+  }
+  for (int c = 0; c < kSolidChunks; ++c) start[c + 1] += start[c];
+  fIds_.resize(static_cast<size_t>(n));
+  fPositions_.resize(static_cast<size_t>(start[kSolidChunks] * d));
+  std::int32_t* fi = fIds_.data();
+  double* fp = fPositions_.data();
+#pragma omp parallel for schedule(static)
+  for (int c = 0; c < kSolidChunks; ++c) {
+    double* to = fp + start[c] * d;
+    for (Index i = n * c / kSolidChunks; i < n * (c + 1) / kSolidChunks; ++i) {
+      fi[i] = ids[i];
+      if (slotOf(mat[i]) < 0) continue;
+      for (int a = 0; a < d; ++a) *to++ = x[i * d + a];
+    }
+  }
   fValid_ = true;
 }
 
@@ -905,20 +930,40 @@ bool ElasticSolidModule::sameSolidPositions(const Simulation& sim) const {
   const ParticleStore& s = sim.store;
   const Index n = s.realCount();
   const int d = sim.dimension();
-  if (static_cast<size_t>(n) != fIds_.size() ||
-      std::memcmp(fIds_.data(), s.data(s.id()), sizeof(std::int32_t) * static_cast<size_t>(n)) != 0)
-    return false;
+  if (static_cast<size_t>(n) != fIds_.size()) return false;
   const std::int32_t* mat = s.data(s.material());
   const double* x = s.data(s.position());
-  size_t at = 0;
-  for (Index i = 0; i < n; ++i) {
-    if (slotOf(mat[i]) < 0) continue;
-    if (at + static_cast<size_t>(d) > fPositions_.size() ||
-        std::memcmp(fPositions_.data() + at, x + i * d, sizeof(double) * static_cast<size_t>(d)) != 0)
-      return false;
-    at += static_cast<size_t>(d);
+  const std::int32_t* ids = s.data(s.id());
+  const std::int32_t* fi = fIds_.data();
+  Index start[kSolidChunks + 1];
+  start[0] = 0;
+  int differ = 0;
+#pragma omp parallel for schedule(static) reduction(| : differ)
+  for (int c = 0; c < kSolidChunks; ++c) {
+    const Index i0 = n * c / kSolidChunks, i1 = n * (c + 1) / kSolidChunks;
+    Index k = 0;
+    if (i1 > i0 && std::memcmp(fi + i0, ids + i0, sizeof(std::int32_t) * static_cast<size_t>(i1 - i0)) != 0)
+      differ = 1;
+    for (Index i = i0; i < i1; ++i) k += slotOf(mat[i]) >= 0;
+    start[c + 1] = k;
   }
-  return at == fPositions_.size();
+  if (differ) return false;
+  for (int c = 0; c < kSolidChunks; ++c) start[c + 1] += start[c];
+  if (static_cast<size_t>(start[kSolidChunks] * d) != fPositions_.size()) return false;
+  const double* fp = fPositions_.data();
+#pragma omp parallel for schedule(static) reduction(| : differ)
+  for (int c = 0; c < kSolidChunks; ++c) {
+    const double* at = fp + start[c] * d;
+    for (Index i = n * c / kSolidChunks; i < n * (c + 1) / kSolidChunks; ++i) {
+      if (slotOf(mat[i]) < 0) continue;
+      if (std::memcmp(at, x + i * d, sizeof(double) * static_cast<size_t>(d)) != 0) {
+        differ = 1;
+        break;
+      }
+      at += d;
+    }
+  }
+  return differ == 0;
 }
 
 template <int D>
