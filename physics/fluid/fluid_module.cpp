@@ -160,6 +160,13 @@ void FluidModule::configure(Simulation& sim, const std::vector<const Material*>&
     densityWeightedCsf_ =
         s.choice("surface_tension_weighting", "density", {"density", "none"}) == "density";
     balancedCsf_ = s.choice("surface_tension_form", "csf", {"csf", "balanced"}) == "balanced";
+    // The walls' extrapolated pressure (Adami et al. 2012) balances the fluid's body forces, g and
+    // (true, the default since 2026-11-28) the CSF acceleration a_s (Eq. 1.9), which is a volume
+    // force on the fluid too: false leaves a_s out, and at a contact line its wall-normal part
+    // would push fluid into the wall (issue 14 H5: measured ~1 m/s^2 there, not the cause of the
+    // main job's crossings; docs/fluid.md "Fluid at the walls under a negative gauge pressure").
+    // Only with the CSF form (the balanced form is applied after the extrapolation).
+    wallCsf_ = s.boolean("wall_pressure_surface_tension", true);
     curvatureSmoothing_ = s.real("curvature_smoothing", 2.0, Range::closed(0.0, 3.0));
     normalThreshold_ = s.real("normal_threshold", 0.05, Range::closed(0.0, 1.0));
     wallWetting_ = s.boolean("wall_wetting", true);
@@ -181,6 +188,18 @@ void FluidModule::configure(Simulation& sim, const std::vector<const Material*>&
     shifting_ = s.real("shifting", 0.0, Range::closed(0.0, 10.0));
     pressureReference_ =
         s.choice("pressure_reference", "none", {"none", "background"}) == "background";
+    // With pressure_reference: background the pressure forces use p - p_b, which is negative
+    // where the flow lowers the pressure (the drainage's outlet side); the walls' extrapolated
+    // pressure (Adami et al. 2012) then pulls a fluid particle into the wall instead of pushing
+    // it out (a wall is impermeable only with a positive pressure in the force: issue 14 H5,
+    // measured at the main job's outlet). true (the default since 2026-11-28): a fluid particle
+    // with a fixed-wall neighbour keeps the background pressure's force
+    //   a_b = -(p_b / m_a) sum_b (V_a^2 + V_b^2) grad W_ab   (over all its neighbours; Adami et
+    // al. 2013's form), ~0 on a regular lattice whose support the wall completes and restoring
+    // towards it: the positive pressure the wall needs, on the fluid side only (walls are fixed;
+    // solids and plates still see p - p_b). docs/fluid.md "Fluid at the walls under a negative
+    // gauge pressure".
+    wallBackground_ = s.boolean("wall_background_pressure", true);
     transportVelocity_ = s.boolean("transport_velocity", false);
     densityBound_ = s.real("density_variation_bound", 0.03, Range{0.0, 1.0, true, false});
     cflAcoustic_ = s.real("cfl_acoustic", 0.25, Range{0.0, 1.0, true, false});
@@ -297,6 +316,10 @@ void FluidModule::configure(Simulation& sim, const std::vector<const Material*>&
     curvature = st.addReal("curvature", 1, kFieldOutput | kFieldToGhosts, "fluid");
     interface = st.addInt("interface", 1, kFieldOutput, "fluid");
   }
+  surfaceAcceleration = RealField{};
+  if (gamma_ > 0.0 && !balancedCsf_)
+    surfaceAcceleration =
+        st.addReal("surface_acceleration", d, kFieldOutput | kFieldToGhosts, "fluid");
   wallNormal = RealField{};
   if (surfaceTensionActive() && wallWetting_ && wettingNormal_ && wideWallNormal_)
     wallNormal = st.addReal("wall_normal", d, kFieldDefault, "fluid");
@@ -851,6 +874,79 @@ void FluidModule::kinematicsD(Simulation& sim) {
     }
   }
   st.refreshGhosts(curvature);  // the force stage reads the neighbours' curvature
+  if (surfaceAcceleration.valid()) surfaceAccelerationD<D>(sim);
+}
+
+// CSF surface tension, Eq. 1.9 with the colour gradient of Eq. 5.7 (colour jump 2 => 1/2):
+//   a_s = (gamma / 2) kappa_a |n_W| / |n_U| n_a / rho_a   on interface particles, 0 elsewhere.
+// The normal n_a (colour_gradient: unweighted 5.7, turned by the wetting model near walls) is
+// scaled to the density-weighted magnitude |n_W| = |sum w V dc grad W| (w = 2 rho_a/(rho_a+rho_b):
+// the force acts on the heavy side, whose acceleration it does not overload); the curvature is
+// the weighted mean over the straddling pairs of their midpoint curvature, i.e. that of the
+// interface, not of the particle's own level line (the weighted force sits on the heavy side
+// only, where 1/r is larger than at the interface by ~dx/R). Computed here, after the curvature
+// and before the constitutive stage, so that the walls' pressure extrapolation can balance it
+// (wall_pressure_surface_tension, issue 14 H5); the force stage adds it (the same values as
+// when the force loop summed these pairs itself, bit for bit).
+template <int D>
+void FluidModule::surfaceAccelerationD(Simulation& sim) {
+  auto& st = sim.store;
+  const Fields f = fields(sim);
+  const Index n = f.n;
+  const auto& nl = sim.neighbours;
+  const Kernel& W = sim.kernel;
+  const double* col = st.data(colour);
+  const double* ng = st.data(colourGradient);
+  const double* kap = st.data(curvature);
+  const std::int32_t* itf = st.data(interface);
+  double* as = st.data(surfaceAcceleration);
+  const MaterialData* md = mat_.data();
+  const int nm = static_cast<int>(mat_.size());
+  const bool wallPairs = wallWetting_ && !wettingNormal_;  // wetting: colour (walls' colour in 5.7)
+#pragma omp parallel for schedule(dynamic, 256)
+  for (Index i = 0; i < n; ++i) {
+    for (int a = 0; a < D; ++a) as[i * D + a] = 0.0;
+    if (f.ph[i] != kPhaseFluid || !itf[i]) continue;
+    const int ida = f.mt[i];
+    if (ida < 0 || ida >= nm || !md[ida].fluid) continue;
+    Vec<D> nU = Vec<D>::Zero(), nW = Vec<D>::Zero();
+    double kS = 0.0, wS = 0.0;
+    for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
+      const Index j = nl.index[static_cast<size_t>(k)];
+      const bool fl = f.ph[j] == kPhaseFluid;
+      if (col[j] == col[i] || !(fl || wallPairs)) continue;
+      Vec<D> r;
+      for (int a = 0; a < D; ++a) r[a] = f.x[i * D + a] - f.x[j * D + a];
+      const double F = W.F(r.norm());
+      if (F == 0.0) continue;
+      const Vec<D> gradW = F * r;
+      // The pairs of Eq. 5.7 again: unweighted and density-weighted normal, and the curvature
+      // where the pair straddles the interface.
+      const double dc = col[j] - col[i], Vb = f.m[j] / f.rho[j];
+      nU += (Vb * dc) * gradW;
+      const double w = densityWeightedCsf_ && fl ? 2.0 * f.rho[i] / (f.rho[i] + f.rho[j]) : 1.0;
+      nW += (w * Vb * dc) * gradW;
+      const double kb = fl ? kap[j] : 0.0, ka = kap[i];
+      // The pair's share of the force sits on its heavy side (w > 1): there the curvature is
+      // moved towards the partner's, kappa_a + (1 - 1/w)(kappa_b - kappa_a), so that the two
+      // sides' forces of the pair add up to (kappa_a + kappa_b)/2, the curvature at the
+      // interface, whatever the density ratio (w_ab kappa_a' + w_ba kappa_b' = kappa_a + kappa_b
+      // with w_ab + w_ba = 2). At equal densities w = 1: each particle keeps its own kappa (the
+      // lattice-aligned wetting depends on that near the contact line); at ratio 1000 the heavy
+      // side takes the mean (the harmonic mean, exact for (D-1)/r, is biased low by the
+      // particle noise of kappa, ~50 % of 1/R per particle at R/dx = 10).
+      const double beta = (kb != 0.0 && w > 1.0) ? 1.0 - 1.0 / w : 0.0;
+      const double km = ka + beta * (kb - ka);
+      const double wt = w * Vb * std::abs(dc * F) * r.norm();
+      kS += km * wt;
+      wS += wt;
+    }
+    const double nu = nU.norm();
+    const double scale = nu > 0.0 ? nW.norm() / nu : 1.0;
+    const double kappa = wS > 0.0 ? kS / wS : kap[i];
+    for (int a = 0; a < D; ++a) as[i * D + a] = 0.5 * gamma_ * kappa * scale * ng[i * D + a] / f.rho[i];
+  }
+  st.refreshGhosts(surfaceAcceleration);  // the walls' extrapolation reads ghost neighbours' a_s
 }
 
 template <int D>
@@ -928,8 +1024,13 @@ void FluidModule::constitutiveD(Simulation& sim) {
       }
     }
   }
+  // With surface tension (wall_pressure_surface_tension, issue 14 H5) each fluid neighbour's
+  // CSF acceleration a_s,f (Eq. 1.9, surfaceAccelerationD) joins the body force of the
+  // hydrostatic term, p_w = sum_f [p_f + rho_f (g + a_s,f - a_w) . r_wf] W_wf / sum_f W_wf:
+  // the wall then holds the CSF force's wall-normal part at a contact line as it holds gravity.
+  const double* as = wallCsf_ && surfaceAcceleration.valid() ? st.data(surfaceAcceleration) : nullptr;
   if (nl.half) {
-    wallExtrapolationHalf<D>(sim, f);  // fluid_half.cpp
+    wallExtrapolationHalf<D>(sim, f);  // fluid_half.cpp (no surface tension: full list)
   } else {
 #pragma omp parallel for schedule(dynamic, 512)
     for (Index i = 0; i < n; ++i) {
@@ -944,7 +1045,7 @@ void FluidModule::constitutiveD(Simulation& sim) {
       Vec<D> ga = g;
       if (f.aw && f.mo[i] != kMotionFixed)
         for (int a = 0; a < D; ++a) ga[a] -= f.aw[i * D + a];
-      double sw = 0.0, sp = 0.0;
+      double sw = 0.0, sp = 0.0, ss = 0.0;
       Vec<D> srr = Vec<D>::Zero(), sv = Vec<D>::Zero();
       for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
         const Index j = nl.index[static_cast<size_t>(k)];
@@ -955,11 +1056,16 @@ void FluidModule::constitutiveD(Simulation& sim) {
         sw += w;
         sp += f.p[j] * w;
         srr += (f.rho[j] * w) * r;
+        if (as) {
+          double ar = 0.0;
+          for (int a = 0; a < D; ++a) ar += as[j * D + a] * r[a];
+          ss += f.rho[j] * w * ar;  // rho_f (a_s,f . r_wf) W_wf
+        }
         if (f.vw)
           for (int a = 0; a < D; ++a) sv[a] += f.v[j * D + a] * w;
       }
       if (sw > 0.0) {
-        f.p[i] = (sp + ga.dot(srr)) / sw;
+        f.p[i] = (as ? sp + ga.dot(srr) + ss : sp + ga.dot(srr)) / sw;
         if (f.vw)
           for (int a = 0; a < D; ++a) f.vw[i * D + a] = 2.0 * f.v[i * D + a] - sv[a] / sw;
       } else {
@@ -997,10 +1103,10 @@ void FluidModule::forcesD(Simulation& sim) {
       uShift = std::max(uShift, std::sqrt(v2));
     }
   }
-  const double* ng = gamma_ > 0.0 ? st.data(colourGradient) : nullptr;
   const double* kap = gamma_ > 0.0 ? st.data(curvature) : nullptr;
   const std::int32_t* itf = gamma_ > 0.0 ? st.data(interface) : nullptr;
   const double* col = gamma_ > 0.0 ? st.data(colour) : nullptr;
+  const double* as = surfaceAcceleration.valid() ? st.data(surfaceAcceleration) : nullptr;
   const MaterialData* md = mat_.data();
   const int nm = static_cast<int>(mat_.size());
   const double h = W.h();
@@ -1076,6 +1182,10 @@ void FluidModule::forcesD(Simulation& sim) {
   const double* pRho2 = pRho2W;
   const double* wallRho = single ? pRho2W : nullptr;  // at boundary particles (above)
   const FluidFluidOptions ffOptions{pressureForm_, pOff, artificialViscosity_, h};
+  const bool bgOn = wallBackground_ && pOff > 0.0;  // wall_background_pressure (configure)
+  if (bgOn && nl.half)
+    throw InputError("fluid: wall_background_pressure needs the full neighbour list (neighbour_list: "
+                     "full or auto), or wall_background_pressure: false");
   if (wallMirrorLight_ && nl.half)
     throw InputError("fluid: wall_pressure: light_mirror needs the full neighbour list "
                      "(neighbour_list: full or auto)");
@@ -1108,10 +1218,10 @@ void FluidModule::forcesD(Simulation& sim) {
       Vec<D> aP = Vec<D>::Zero(), aV = Vec<D>::Zero(), aA = Vec<D>::Zero(), dvX = Vec<D>::Zero(),
              gradC = Vec<D>::Zero();
       double divv = 0.0, diff = 0.0;
-      const bool csfHere = gamma_ > 0.0 && itf[i] && !balancedCsf_;
       const bool mirrorAtWalls = wallMirror_[static_cast<size_t>(ida)] != 0;
-      Vec<D> nU = Vec<D>::Zero(), nW = Vec<D>::Zero(), tv = Vec<D>::Zero();
-      double kS = 0.0, wS = 0.0;
+      Vec<D> tv = Vec<D>::Zero();
+      Vec<D> bg = Vec<D>::Zero();  // sum_b (V_a^2 + V_b^2) grad W (wall_background_pressure)
+      bool nearWall = false;
       for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
         const Index j = nl.index[static_cast<size_t>(k)];
         Vec<D> r;
@@ -1127,31 +1237,10 @@ void FluidModule::forcesD(Simulation& sim) {
           const double Vb = f.m[j] / f.rho[j];
           tv += (Va * Va + Vb * Vb) * gradW;
         }
-        if (csfHere && col[j] != col[i] &&
-            (f.ph[j] == kPhaseFluid || (wallWetting_ && !wettingNormal_))) {
-          // The pairs of Eq. 5.7 again: unweighted and density-weighted normal, and the curvature
-          // where the pair straddles the interface (see below).
-          const double dc = col[j] - col[i], Vb = f.m[j] / f.rho[j];
-          nU += (Vb * dc) * gradW;
-          const bool fl = f.ph[j] == kPhaseFluid;
-          const double w = densityWeightedCsf_ && fl ? 2.0 * f.rho[i] / (f.rho[i] + f.rho[j]) : 1.0;
-          nW += (w * Vb * dc) * gradW;
-          const double kb = fl ? kap[j] : 0.0, ka = kap[i];
-          {
-            // The pair's share of the force sits on its heavy side (w > 1): there the curvature
-            // is moved towards the partner's, kappa_a + (1 - 1/w)(kappa_b - kappa_a), so that the
-            // two sides' forces of the pair add up to (kappa_a + kappa_b)/2, the curvature at the
-            // interface, whatever the density ratio (w_ab kappa_a' + w_ba kappa_b' = kappa_a +
-            // kappa_b with w_ab + w_ba = 2). At equal densities w = 1: each particle keeps its own
-            // kappa (the lattice-aligned wetting depends on that near the contact line); at ratio
-            // 1000 the heavy side takes the mean (the harmonic mean, exact for (D-1)/r, is biased
-            // low by the particle noise of kappa, ~50 % of 1/R per particle at R/dx = 10).
-            const double beta = (kb != 0.0 && w > 1.0) ? 1.0 - 1.0 / w : 0.0;
-            const double km = ka + beta * (kb - ka);
-            const double wt = w * Vb * std::abs(dc * F) * r.norm();
-            kS += km * wt;
-            wS += wt;
-          }
+        if (bgOn) {
+          const double Vb = f.m[j] / f.rho[j];
+          bg += (Va * Va + Vb * Vb) * gradW;
+          nearWall = nearWall || f.ph[j] == kPhaseWall;
         }
         if (f.ph[j] == kPhaseWall) {
           // Fixed boundary: extrapolated pressure, no-slip velocity (the shared pair terms).
@@ -1202,21 +1291,12 @@ void FluidModule::forcesD(Simulation& sim) {
           divv += cterm;
       }
       if (f.nextFactor) f.nextFactor[i] = moment > 0.5 * D ? D / moment : 1.0;
+      if (nearWall) aP -= (pOff / f.m[i]) * bg;  // wall_background_pressure
       Vec<D> ai = aP + aV + aA + g;
       addBodyForces<D>(f.x + i * D, ai);
-      // CSF surface tension, Eq. 1.9 with the colour gradient of Eq. 5.7 (colour jump 2 => 1/2).
-      // The normal n_a (colour_gradient: unweighted 5.7, turned by the wetting model near walls)
-      // is scaled to the density-weighted magnitude |sum w V dc grad W| (w = 2 rho_a/(rho_a+rho_b):
-      // the force acts on the heavy side, whose acceleration it does not overload); the curvature
-      // is the weighted mean over the straddling pairs of their midpoint curvature, i.e. that of
-      // the interface, not of the particle's own level line (the weighted force sits on the heavy
-      // side only, where 1/r is larger than at the interface by ~dx/R).
-      if (csfHere) {
-        const double nu = nU.norm();
-        const double scale = nu > 0.0 ? nW.norm() / nu : 1.0;
-        const double kappa = wS > 0.0 ? kS / wS : kap[i];
-        for (int a = 0; a < D; ++a) ai[a] += 0.5 * gamma_ * kappa * scale * ng[i * D + a] / rhoa;
-      }
+      // CSF surface tension, Eq. 1.9: a_s of this evaluation (surfaceAccelerationD, kinematics).
+      if (as)
+        for (int a = 0; a < D; ++a) ai[a] += as[i * D + a];
       for (int a = 0; a < D; ++a) f.acc[i * D + a] += ai[a];
       if (f.drho) f.drho[i] += rhoa * divv + densityDiffusion_ * h * ma.soundSpeed * diff;
       if (f.corrRate) {
@@ -1310,6 +1390,10 @@ ModuleSettings FluidModule::settings() const {
       {"fluid.viscosity_mean", harmonicMean_ ? "harmonic" : "arithmetic", "harmonic"},
       {"fluid.surface_tension_form", balancedCsf_ ? "balanced" : "csf", "csf"},
       {"fluid.surface_tension_weighting", densityWeightedCsf_ ? "density" : "none", "density"},
+      {"fluid.wall_pressure_surface_tension", wallCsf_ ? "true" : "false", "false",
+       "until 2026-11-28 (issue 14 H5)"},
+      {"fluid.wall_background_pressure", wallBackground_ ? "true" : "false", "false",
+       "until 2026-11-28 (issue 14 H5)"},
       {"fluid.wetting", wettingNormal_ ? "normal" : "colour", "normal"},
       {"fluid.wall_normal", wideWallNormal_ ? "wide" : "local", "local"},
       {"fluid.pressure_reference", pressureReference_ ? "background" : "none", "none"},

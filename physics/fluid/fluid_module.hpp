@@ -114,7 +114,9 @@ class FluidModule : public Module {
   }
   /// Every loop has a symmetric form for a half list (fluid_half.cpp) except the surface
   /// tension's (colour gradient, curvature, CSF), which needs the full list.
-  bool supportsHalfNeighbourList() const override { return gamma_ == 0.0 && !wallMirrorLight_; }  // CSF and light_mirror: full list
+  bool supportsHalfNeighbourList() const override {  // CSF, light_mirror, wall_background_pressure: full list
+    return gamma_ == 0.0 && !wallMirrorLight_ && !(wallBackground_ && pressureReference_);
+  }
   /// `pair_precision: float`: the fluid-fluid pairs of the symmetric force loop in single precision.
   bool floatPairs() const { return floatPairs_; }
   /// Blocks and spill buffers of the symmetric loops (their allocations, for tests).
@@ -159,6 +161,12 @@ class FluidModule : public Module {
   // wall_normal: wide; computed once in initialise, issue 14 "Wetting on real walls").
   RealField wallNormal;
   IntField interface;
+  /// CSF acceleration a_s of each fluid particle (Eq. 1.9 as the force stage applies it),
+  /// computed after the curvature (kinematics stage) so that the walls' pressure extrapolation
+  /// (constitutive stage) can balance it and the force stage adds it; registered only with the
+  /// CSF form of surface tension (issue 14 H5, docs/fluid.md "Fluid at the walls under a
+  /// negative gauge pressure").
+  RealField surfaceAcceleration;
 
  private:
   void initialiseHydrostatic(Simulation& sim);
@@ -188,6 +196,7 @@ class FluidModule : public Module {
   /// The symmetric force loop's per-particle sums (forceLoopHalf's width).
   int forceWidth(int d) const;
   template <int D> void kinematicsD(Simulation& sim);
+  template <int D> void surfaceAccelerationD(Simulation& sim);  // a_s (Eq. 1.9), after the curvature
   template <int D> void computeWallNormalsD(Simulation& sim);
   template <int D> void constitutiveD(Simulation& sim);
   template <int D> void forcesD(Simulation& sim);
@@ -230,6 +239,8 @@ class FluidModule : public Module {
   double gamma_ = 0.0;              // surface tension coefficient (N/m)
   bool densityWeightedCsf_ = true;  // CSF weighting 2 rho_a / (rho_a + rho_b)
   bool balancedCsf_ = false;        // surface_tension_form: balanced (surface_tension.hpp)
+  bool wallCsf_ = true;             // wall_pressure_surface_tension: a_s in the walls' extrapolation
+  bool wallBackground_ = true;      // wall_background_pressure: p_b's force kept next to fixed walls
   double curvatureSmoothing_ = 2.0; // balanced form: curvature Shepard radius / h
   std::vector<double> kappaWork_;   // balanced form: smoothed curvature (surface_tension.cpp)
   double normalThreshold_ = 0.05;   // |n| h below which a normal is not used (5.8)
