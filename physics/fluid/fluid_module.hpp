@@ -239,8 +239,8 @@ class FluidModule : public Module {
   double gamma_ = 0.0;              // surface tension coefficient (N/m)
   bool densityWeightedCsf_ = true;  // CSF weighting 2 rho_a / (rho_a + rho_b)
   bool balancedCsf_ = false;        // surface_tension_form: balanced (surface_tension.hpp)
-  bool wallCsf_ = true;             // wall_pressure_surface_tension: a_s in the walls' extrapolation
-  bool wallBackground_ = true;      // wall_background_pressure: p_b's force kept next to fixed walls
+  bool wallCsf_ = false;            // wall_pressure_surface_tension: a_s in the walls' extrapolation
+  bool wallBackground_ = false;     // wall_background_pressure: p_b's force kept next to fixed walls
   double curvatureSmoothing_ = 2.0; // balanced form: curvature Shepard radius / h
   std::vector<double> kappaWork_;   // balanced form: smoothed curvature (surface_tension.cpp)
   double normalThreshold_ = 0.05;   // |n| h below which a normal is not used (5.8)
