@@ -906,6 +906,7 @@ void FluidModule::surfaceAccelerationD(Simulation& sim) {
   const MaterialData* md = mat_.data();
   const int nm = static_cast<int>(mat_.size());
   const bool wallPairs = wallWetting_ && !wettingNormal_;  // wetting: colour (walls' colour in 5.7)
+  W.withFixedType<D>([&](const auto K) {  // the kernel type fixed at compile time, as the force loop
 #pragma omp parallel for schedule(dynamic, 256)
   for (Index i = 0; i < n; ++i) {
     for (int a = 0; a < D; ++a) as[i * D + a] = 0.0;
@@ -920,7 +921,7 @@ void FluidModule::surfaceAccelerationD(Simulation& sim) {
       if (col[j] == col[i] || !(fl || wallPairs)) continue;
       Vec<D> r;
       for (int a = 0; a < D; ++a) r[a] = f.x[i * D + a] - f.x[j * D + a];
-      const double F = W.F(r.norm());
+      const double F = K.F(r.norm());
       if (F == 0.0) continue;
       const Vec<D> gradW = F * r;
       // The pairs of Eq. 5.7 again: unweighted and density-weighted normal, and the curvature
@@ -949,7 +950,9 @@ void FluidModule::surfaceAccelerationD(Simulation& sim) {
     const double kappa = wS > 0.0 ? kS / wS : kap[i];
     for (int a = 0; a < D; ++a) as[i * D + a] = 0.5 * gamma_ * kappa * scale * ng[i * D + a] / f.rho[i];
   }
-  st.refreshGhosts(surfaceAcceleration);  // the walls' extrapolation reads ghost neighbours' a_s
+  });
+  // Only the walls' extrapolation reads a ghost's a_s (the force loop reads its own particle's).
+  if (wallCsf_) st.refreshGhosts(surfaceAcceleration);
 }
 
 template <int D>
