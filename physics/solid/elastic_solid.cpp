@@ -22,6 +22,18 @@ namespace poresph::solid {
 
 namespace {
 
+// Relative displacement of a pair by minimum image along the periodic axes (period[a] > 0): u is
+// each particle's own minimum image of x - X, which jumps by a period where a particle has slid
+// past half a period from its reference, while the pair's difference stays small. |d| < L/4 needs
+// no rounding, so the common case costs one comparison per axis. Used by the TL kinematics
+// (Eqs. 2.67 / 2.82) and the displacement form (Eq. 2.89); tests/unit/test_solid_periodic_slide.cpp.
+template <int D, class V>
+inline void wrapPairDisplacement(V& d, const double* period) {
+  for (int a = 0; a < D; ++a)
+    if (period[a] > 0.0 && std::abs(d[a]) >= 0.25 * period[a])
+      d[a] -= period[a] * std::round(d[a] / period[a]);
+}
+
 constexpr unsigned kInternal = kFieldCheckpoint;  // state that is neither output nor ghosted
 
 std::string fmt(double v) {
@@ -990,19 +1002,12 @@ void ElasticSolidModule::kinematicsDim(Simulation& sim) {
   if (anyMirror_ || formulation_ == Formulation::TotalLagrangian) rebuildIdMap(sim);
   if (anyMirror_) applyMirrors<D>(sim);
   if (s.ghostCount() > 0) s.refreshGhosts(disp_);
-  // The pair's relative displacement u_b - u_a by minimum image: u is each particle's own
-  // minimum image of x - X, which jumps by a period where a particle has slid past half a
-  // period from its reference; the pair's difference, (x_b - x_a) - (X_b - X_a), stays small.
-  // Without it a strip sliding more than L/2 along a periodic axis inverted (J < 0) where its
-  // particles straddled the jump (tests/unit/test_solid_periodic_slide.cpp). |d| < L/4 needs no
-  // rounding (the shift is 0), so the common case costs one comparison per axis.
+  // The pair's relative displacement u_b - u_a by minimum image (wrapPairDisplacement): without
+  // it a strip sliding more than L/2 along a periodic axis inverted (J < 0).
   const bool periodicU = period[0] > 0.0 || period[1] > 0.0 || period[2] > 0.0;
   auto relative = [&](const double* ub, const Vec<D>& ua) {
     Vec<D> d = Eigen::Map<const Vec<D>>(ub) - ua;
-    if (periodicU)
-      for (int a = 0; a < D; ++a)
-        if (period[a] > 0.0 && std::abs(d[a]) >= 0.25 * period[a])
-          d[a] -= period[a] * std::round(d[a] / period[a]);
+    if (periodicU) wrapPairDisplacement<D>(d, period);
     return d;
   };
 
@@ -1434,9 +1439,7 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
         // Eqs. 2.88-2.90: rho a = mu lap(u) + (lambda + mu) grad(div u), with the
         // second derivatives of Eq. 2.89: sum_b V_b [(D+2) e_j e_k - delta_jk] (u_a - u_b) F_ab.
         Vec<D> uij = ui - Eigen::Map<const Vec<D>>(u + j * D);
-        for (int a = 0; a < D; ++a)
-          if (periodU[a] > 0.0 && std::abs(uij[a]) >= 0.25 * periodU[a])
-            uij[a] -= periodU[a] * std::round(uij[a] / periodU[a]);
+        wrapPairDisplacement<D>(uij, periodU);
         const double lam = 0.5 * (e.lambda + ej.lambda), mu = 0.5 * (e.mu + ej.mu);
         f.noalias() += Vj * W.F(r) *
                        ((mu - lam) * uij + (lam + mu) * (D + 2) * rij * (rij.dot(uij) / (r * r)));
