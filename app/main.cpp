@@ -172,7 +172,8 @@ int commandRun(const std::string& scenePath, std::string outDir, bool force,
   Scene scene = loadScene(scenePath, sceneOptions);
   if (restart.empty() && !keepGoing && !scene.health.keepGoing)
     checkInitialHealth(scene, scenePath);
-  if (!restart.empty()) restoreCheckpoint(scene, restart);  // refused before --out is touched
+  // Refused before --out is touched; the warnings are printed by the run's own restore (once).
+  if (!restart.empty()) restoreCheckpoint(scene, restart, nullptr, /*printWarnings=*/false);
   // A restart continues the run in the checkpoint's own directory unless --out says otherwise:
   // that directory is not empty, and continuing it (timeseries rows and snapshots after the
   // checkpoint's time replaced, earlier ones kept) is what was asked for.

@@ -192,7 +192,8 @@ std::string sceneSignature(const Scene& scene) {
 
 std::string legacySceneSignature(const Scene& scene) { return signatureWithout(scene, {}); }
 
-void restoreCheckpoint(Scene& scene, const std::string& path, ModuleState* integratorState) {
+void restoreCheckpoint(Scene& scene, const std::string& path, ModuleState* integratorState,
+                       bool printWarnings) {
   Simulation& sim = *scene.sim;
   const CheckpointRecord record = readCheckpointRecord(path);
   const ModuleSettings settings = sceneSettings(scene);
@@ -263,7 +264,8 @@ void restoreCheckpoint(Scene& scene, const std::string& path, ModuleState* integ
     }
   }
   readCheckpoint(sim, path, expected, integratorState);
-  for (const std::string& w : warnings) std::fputs(w.c_str(), stderr);
+  if (printWarnings)
+    for (const std::string& w : warnings) std::fputs(w.c_str(), stderr);
   if (scene.finished())
     throw InputError(path + ": the checkpoint is at time " + std::to_string(sim.time) +
                      " s, step " + std::to_string(sim.step) + ", which is not before the end of " +

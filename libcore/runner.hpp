@@ -88,9 +88,10 @@ std::string legacySceneSignature(const Scene& scene);
 /// recorded settings (written before 2026-11-28) is compared by legacySceneSignature(), a key
 /// set explicitly to its ModuleSetting::formerDefault left out, and warns for each setting the
 /// scene leaves to a default that differs from the former one. runScene() calls it; `poresph run --restart` calls it
-/// before it touches the output directory.
+/// before it touches the output directory, with `printWarnings` false (the run's own call prints
+/// them, once).
 void restoreCheckpoint(Scene& scene, const std::string& path,
-                       ModuleState* integratorState = nullptr);
+                       ModuleState* integratorState = nullptr, bool printWarnings = true);
 
 /// Throws InputError (naming `origin`, the check, the particle) when the scene's current state
 /// already fails a health check: a run from it would stop at its first step. runScene() calls

@@ -271,6 +271,12 @@ TEST(FluidRestart, ACheckpointWithoutTheRecordWarnsAndAcceptsTheOldDefaultAsAKey
   const std::string warning = testing::internal::GetCapturedStderr();
   EXPECT_NE(warning.find("does not record the fluid's pressure_gradient"), std::string::npos) << warning;
   EXPECT_NE(warning.find("'pressure_gradient: symmetric'"), std::string::npos) << warning;
+  // `poresph run --restart` restores twice (the early check before --out is touched, then the
+  // run's own restore): the early one is silent, so each warning is printed once.
+  Scene plainEarly = load("legacy_plain_early.yaml", "");
+  testing::internal::CaptureStderr();
+  restoreCheckpoint(plainEarly, legacy, nullptr, /*printWarnings=*/false);
+  EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
 
   Scene withKey = load("legacy_key.yaml", "  pressure_gradient: symmetric\n");
   testing::internal::CaptureStderr();
