@@ -2,6 +2,7 @@
 // The state of one run and the scheduler of a step (see libcore/module.hpp for the stage order).
 #include <array>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -58,6 +59,10 @@ class Simulation {
   struct PublishedPhysics {
     double surfaceTension = 0.0;                 ///< gamma of the fluid-fluid interface [N/m]
     std::array<double, 3> fluidGravity{0, 0, 0};  ///< gravity acting on the fluids [m/s^2]
+    /// The coupling module's fluid-solid boundary model (set when it runs): the rigid module's
+    /// plates and grains take it where the fluid also meets elastic solids (one model per
+    /// fluid particle, docs/coupling.md "Pores opening onto a plate").
+    std::optional<BoundaryModel> fluidSolidModel;
   } published;
   /// Appends a material (id = its index) whose parameters are a YAML mapping given as text, for
   /// scenes built in code (tests, benchmarks); errors name `origin` and materials[id].

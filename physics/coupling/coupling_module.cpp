@@ -11,11 +11,13 @@ namespace poresph {
 void CouplingModule::configure(Simulation& sim, const std::vector<const Material*>& materials,
                                const ParameterSet* section) {
   model_ = BoundaryModel::Mirror;
-  if (!section) return;
-  model_ = section->choice("fluid_solid", "mirror", {"mirror", "extrapolated"}) == "extrapolated"
-               ? BoundaryModel::Extrapolated
-               : BoundaryModel::Mirror;
-  section->finish();
+  if (section) {
+    model_ = section->choice("fluid_solid", "mirror", {"mirror", "extrapolated"}) == "extrapolated"
+                 ? BoundaryModel::Extrapolated
+                 : BoundaryModel::Mirror;
+    section->finish();
+  }
+  sim.published.fluidSolidModel = model_;  // read by the rigid module's initialise()
 }
 
 void CouplingModule::initialise(Simulation& sim) {
@@ -80,7 +82,8 @@ void CouplingModule::interfacesD(Simulation& sim) {
         const Index j = nl.index[static_cast<size_t>(k)];
         if (!isFluid(j)) continue;
         double div = 0.0;
-        f -= pairForce(j, i, div);  // reaction: minus the force of i on the fluid particle j
+        f -= pairForce.reaction(j, i, div);  // reaction: minus the force of i on the fluid particle j
+                                             // (with the solid's pressure offset: solid_gauge)
       }
       for (int c = 0; c < D; ++c) acc[i * D + c] += f[c] / m[i];
       fx += f[0];

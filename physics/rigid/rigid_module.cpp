@@ -929,13 +929,7 @@ void RigidModule::initialise(Simulation& sim) {
     // tension pulls it further in, and it is sucked into the plate-clay contact (measured:
     // the 16^3 Ketton crop of the main job with such a channel stopped by the density check at
     // 2.08 ms; 4 ms, 1.6 % with one model).
-    if (!fluidModelSet_)
-      for (const auto& m : sim.modules) {
-        if (m->name() != "coupling") continue;
-        for (const ModuleSetting& s : m->settings())
-          if (s.key == "coupling.fluid_solid")
-            fluidModel_ = s.value == "mirror" ? BoundaryModel::Mirror : BoundaryModel::Extrapolated;
-      }
+    if (!fluidModelSet_ && sim.published.fluidSolidModel) fluidModel_ = *sim.published.fluidSolidModel;
   }
   findSurface(sim);
   {
@@ -1156,7 +1150,8 @@ void RigidModule::interfacesD(Simulation& sim) {
         if (phj == kPhaseFluid) {
           if (!fluidPairs_ || !isFluid(j)) continue;
           double div = 0.0;
-          f -= fluidPair(j, i, div);  // reaction of the force on the fluid particle j
+          f -= fluidPair.reaction(j, i, div);  // reaction of the force on the fluid particle j (p - p_b
+                                              // with solid_gauge)
           continue;
         }
         if (phj == kPhaseRigid && body[j] == body[i]) continue;  // same body: no force
