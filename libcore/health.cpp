@@ -169,6 +169,13 @@ namespace {
 
 using Storage = RollbackState::Storage;
 
+// Passes over fewer values than this run on the calling thread, outside any OpenMP region
+// (issue 11 speed, the small 2D box): a region costs ~1,500-2,500 instructions even with one
+// thread or a false `if` clause (GOMP_parallel still builds a team; callgrind) and microseconds of
+// fork and join with two, more than a pass over a few thousand values. The results do not depend
+// on it (copies, exact min / max, palettes in order of first appearance either way).
+constexpr std::size_t kParallelMin = 4096;
+
 std::uint64_t bitsOf(double v) {
   std::uint64_t b;
   std::memcpy(&b, &v, sizeof b);
@@ -282,6 +289,37 @@ void paletteCodesParallel(const T* v, std::size_t count, std::vector<std::uint64
   }
 }
 
+// paletteCodesParallel, or paletteOf in one pass on the calling thread below kParallelMin
+// values (the same palette and codes: both in order of first appearance).
+template <class T>
+void paletteCodes(const T* v, std::size_t count, std::vector<std::uint64_t>& palette,
+                  std::uint8_t* code) {
+  if (count < kParallelMin) paletteOf(v, count, palette, code);
+  else paletteCodesParallel(v, count, palette, code);
+}
+
+// Whether the palette and codes of the last capture still give values [0, count) bit for bit
+// (the steady state of mass, phase, material, motion between reorders): then they are the palette
+// and codes a new coding would give (order of first appearance of the same values), and the field
+// needs no new coding. A branch-free pass (~5 instructions per value against ~18 for the coding).
+template <class T>
+bool paletteHolds(const T* v, std::size_t count, const std::vector<std::uint64_t>& palette,
+                  const std::uint8_t* code) {
+  const std::uint64_t* pal = palette.data();
+  const std::size_t size = palette.size();
+  if (size == 0) return false;
+  unsigned bad = 0;
+  if (count < kParallelMin) {
+    for (std::size_t q = 0; q < count; ++q)
+      bad |= static_cast<unsigned>((code[q] >= size) | (pal[code[q] < size ? code[q] : 0] != bitsOf(v[q])));
+  } else {
+#pragma omp parallel for schedule(static) reduction(| : bad)
+    for (std::size_t q = 0; q < count; ++q)
+      bad |= static_cast<unsigned>((code[q] >= size) | (pal[code[q] < size ? code[q] : 0] != bitsOf(v[q])));
+  }
+  return bad == 0;
+}
+
 // Whether field f may be copied in single precision: flagged so, and for the positions, no
 // solid or rigid particle in the store (their positions define strain and body shape).
 bool singleAllowed(const ParticleStore& st, int f, bool everyField) {
@@ -292,6 +330,11 @@ bool singleAllowed(const ParticleStore& st, int f, bool everyField) {
   const std::int32_t* phase = st.data(st.phase());
   const Index n = st.realCount();
   int body = 0;
+  if (static_cast<std::size_t>(n) < kParallelMin) {
+#pragma omp simd reduction(| : body)
+    for (Index i = 0; i < n; ++i) body |= (phase[i] == kPhaseSolid) | (phase[i] == kPhaseRigid);
+    return body == 0;
+  }
 #pragma omp parallel for simd schedule(static) reduction(| : body)
   for (Index i = 0; i < n; ++i) body |= (phase[i] == kPhaseSolid) | (phase[i] == kPhaseRigid);
   return body == 0;
@@ -307,12 +350,20 @@ void componentRange(const double* p, std::size_t count, double* lo, double* hi) 
   double l[NC], h[NC];
   for (int a = 0; a < NC; ++a) l[a] = h[a] = p[a];
   const std::size_t rows = count / NC;
+  if (count < kParallelMin) {
+    for (std::size_t i = 0; i < rows; ++i)
+      for (int a = 0; a < NC; ++a) {
+        l[a] = std::min(l[a], p[i * NC + static_cast<std::size_t>(a)]);
+        h[a] = std::max(h[a], p[i * NC + static_cast<std::size_t>(a)]);
+      }
+  } else {
 #pragma omp parallel for schedule(static) reduction(min : l[:NC]) reduction(max : h[:NC])
-  for (std::size_t i = 0; i < rows; ++i)
-    for (int a = 0; a < NC; ++a) {
-      l[a] = std::min(l[a], p[i * NC + static_cast<std::size_t>(a)]);
-      h[a] = std::max(h[a], p[i * NC + static_cast<std::size_t>(a)]);
-    }
+    for (std::size_t i = 0; i < rows; ++i)
+      for (int a = 0; a < NC; ++a) {
+        l[a] = std::min(l[a], p[i * NC + static_cast<std::size_t>(a)]);
+        h[a] = std::max(h[a], p[i * NC + static_cast<std::size_t>(a)]);
+      }
+  }
   for (int a = 0; a < NC; ++a) {
     lo[a] = l[a];
     hi[a] = h[a];
@@ -321,6 +372,14 @@ void componentRange(const double* p, std::size_t count, double* lo, double* hi) 
 template <int NC>
 void toSingle(const double* p, std::size_t count, const double* off, float* q) {
   const std::size_t rows = count / NC;
+  if (count < kParallelMin) {
+    for (std::size_t i = 0; i < rows; ++i)
+      for (int a = 0; a < NC; ++a) {
+        const std::size_t m = i * NC + static_cast<std::size_t>(a);
+        q[m] = static_cast<float>(p[m] - off[a]);
+      }
+    return;
+  }
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < rows; ++i)
     for (int a = 0; a < NC; ++a) {
@@ -334,6 +393,10 @@ template <class T>
 void copyParallel(const T* p, std::size_t count, std::vector<T>& out) {
   out.resize(count);
   T* o = out.data();
+  if (count < kParallelMin) {
+    if (count > 0) std::memcpy(o, p, count * sizeof(T));
+    return;
+  }
 #pragma omp parallel for simd schedule(static)
   for (std::size_t k = 0; k < count; ++k) o[k] = p[k];
 }
@@ -409,6 +472,11 @@ bool RollbackState::capture(const Simulation& sim) {
       want = singleAllowed(st, static_cast<int>(f), everyField_)
                  ? Storage::Single
                  : Storage::Palette;  // tried first; falls back to Double / Int below
+    // A field copied plainly at the last capture stays so (both are exact; no count of its
+    // distinct values per step: the mass of a hydrostatic start, the ids).
+    if (want == Storage::Palette &&
+        (real ? col.storage == Storage::Double : col.storage == Storage::Int))
+      want = col.storage;
     if (want == Storage::Palette) {
       // Lossless: a byte per value when the field holds at most kPaletteSize distinct values.
       const RealField rf{static_cast<int>(f)};
@@ -418,10 +486,14 @@ bool RollbackState::capture(const Simulation& sim) {
       // (the count stops at the 17th distinct value: a few values for a field of many), then
       // coded in a second pass if it fits.
       const bool onePass = col.storage == Storage::Palette;
-      if (onePass) {
+      if (onePass && col.code.size() == count && count > 0 &&
+          (real ? paletteHolds(st.data(rf), count, col.palette, col.code.data())
+                : paletteHolds(st.data(inf), count, col.palette, col.code.data()))) {
+        // unchanged since the last capture: its palette and codes stand
+      } else if (onePass) {
         col.code.resize(count);
-        if (real) paletteCodesParallel(st.data(rf), count, col.palette, col.code.data());
-        else paletteCodesParallel(st.data(inf), count, col.palette, col.code.data());
+        if (real) paletteCodes(st.data(rf), count, col.palette, col.code.data());
+        else paletteCodes(st.data(inf), count, col.palette, col.code.data());
       } else if (real) {
         paletteOf(st.data(rf), count, col.palette, nullptr);
       } else {

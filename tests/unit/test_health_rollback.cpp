@@ -110,7 +110,7 @@ TEST(Rollback, PaletteFieldsAreCodedInParallelChunksAndRestoredExactly) {
     const RealField mixed = st.addReal("mixed", 1, kFieldOutput, "test");
     const IntField sixteen = st.addInt("sixteen", 2, kFieldCheckpoint, "test");
     const IntField late = st.addInt("late", 1, kFieldCheckpoint, "test");
-    const Index n = 3000;
+    const Index n = 5000;  // every field >= 4096 values: the chunked path (below, one pass)
     st.addParticles(n);
     auto set = [&](int round) {
       for (Index i = 0; i < n; ++i) {
@@ -142,6 +142,57 @@ TEST(Rollback, PaletteFieldsAreCodedInParallelChunksAndRestoredExactly) {
     }
   }
   omp_set_num_threads(saved);
+}
+
+TEST(Rollback, ACopyTakesTheValuesOfItsStepWhateverTheLastCopyHeld) {
+  // Issue 11 speed: a palette field whose palette and codes of the last copy still give its
+  // values is not coded again, and a field copied plainly stays so. Each copy must still hold
+  // its step's values: one value changed to another of the palette (same palette, one code
+  // differs), two values swapped (a reorder), a plain field that now has few values, unchanged
+  // fields; small (one pass on the calling thread) and large (chunks in parallel) stores.
+  for (const Index n : {Index{100}, Index{6000}}) {
+    Simulation sim(2);
+    ParticleStore& st = sim.store;
+    const IntField few = st.addInt("few", 1, kFieldCheckpoint, "test");
+    const RealField levels = st.addReal("levels", 1, kFieldOutput, "test");
+    const RealField many = st.addReal("many", 1, kFieldCheckpoint, "test");
+    st.addParticles(n);
+    for (Index i = 0; i < n; ++i) {
+      st.data(few)[i] = static_cast<std::int32_t>(i % 3);
+      st.data(levels)[i] = 0.5 * static_cast<double>(i % 4);
+      st.data(many)[i] = 1.0 + static_cast<double>(i);
+    }
+    RollbackState r;
+    auto copyAndCompare = [&](Index step) {
+      sim.step = step;
+      ASSERT_TRUE(r.capture(sim));
+      const std::vector<std::int32_t> f0(st.data(few), st.data(few) + n);
+      const std::vector<double> l0(st.data(levels), st.data(levels) + n),
+          m0(st.data(many), st.data(many) + n);
+      for (Index i = 0; i < n; ++i) {
+        st.data(few)[i] = -1;
+        st.data(levels)[i] = -1.0;
+        st.data(many)[i] = -1.0;
+      }
+      ASSERT_TRUE(r.restore(sim));
+      EXPECT_EQ(f0, std::vector<std::int32_t>(st.data(few), st.data(few) + n)) << n << " " << step;
+      EXPECT_EQ(l0, std::vector<double>(st.data(levels), st.data(levels) + n)) << n << " " << step;
+      EXPECT_EQ(m0, std::vector<double>(st.data(many), st.data(many) + n)) << n << " " << step;
+    };
+    copyAndCompare(0);
+    copyAndCompare(1);  // unchanged
+    st.data(few)[17] = (st.data(few)[17] + 1) % 3;  // another value of the palette
+    st.data(levels)[n - 1] = 0.0;
+    copyAndCompare(2);
+    std::swap(st.data(few)[3], st.data(few)[4]);
+    std::swap(st.data(levels)[5], st.data(levels)[6]);
+    for (Index i = 0; i < n; ++i) st.data(many)[i] = 2.0;  // few values now: copied plainly
+    copyAndCompare(3);
+    st.data(few)[n / 2] = 7;  // a new value
+    st.data(levels)[0] = 0.25;
+    st.data(many)[n / 3] = -3.0;
+    copyAndCompare(4);
+  }
 }
 
 TEST(Rollback, AReorderAfterTheCopyIsUndoneSoConstantFieldsStayWithTheirParticles) {
