@@ -6,11 +6,88 @@
 #include <sstream>
 #include <unordered_map>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "libcore/parameters.hpp"
 #include "libcore/phases.hpp"
 #include "libcore/simulation.hpp"
 
 namespace poresph {
+
+namespace {
+
+// Passes over fewer values than this run on the calling thread, outside any OpenMP region
+// (issue 11 speed, the small 2D box): a region costs ~1,500-2,500 instructions even with one
+// thread or a false `if` clause (GOMP_parallel still builds a team; callgrind) and microseconds of
+// fork and join with two, more than a pass over a few thousand values. The results do not depend
+// on it (copies, exact min / max, palettes in order of first appearance either way).
+constexpr std::size_t kParallelMin = 4096;
+
+// Range of each of the NC components of count / NC values (lo = min, hi = max, std::min /
+// std::max in index order: the same results as one pass per component), in one pass over memory.
+// Used by the rollback copy's single-precision fields and the health check's domain and density
+// bounds. In parallel (issue 17): min and max are exact, so the chunks' ranges merged in any order give
+// the same values for finite data (the copied state passed checkFinite; a signed zero may come
+// out with either sign, which the offset's test lo > 0 || hi < 0 does not see).
+template <int NC>
+void componentRange(const double* p, std::size_t count, double* lo, double* hi) {
+  double l[NC], h[NC];
+  for (int a = 0; a < NC; ++a) l[a] = h[a] = p[a];
+  const std::size_t rows = count / NC;
+  if (count < kParallelMin) {
+#if defined(__SSE2__)
+    // Two values a instruction (SSE2 minpd / maxpd; the compiler does not vectorise std::min
+    // reductions without -ffast-math): a row of 2 components, or 2 rows of 1 (issue 11 speed).
+    if (NC <= 2 && (NC == 2 || rows >= 2)) {
+      __m128d vl = _mm_loadu_pd(p), vh = vl;
+      const std::size_t pairs = NC == 2 ? rows : rows / 2;
+      for (std::size_t k = 0; k < pairs; ++k) {
+        const __m128d v = _mm_loadu_pd(p + 2 * k);
+        vl = _mm_min_pd(vl, v);
+        vh = _mm_max_pd(vh, v);
+      }
+      double bl[2], bh[2];
+      _mm_storeu_pd(bl, vl);
+      _mm_storeu_pd(bh, vh);
+      if constexpr (NC == 2) {
+        lo[0] = bl[0];
+        lo[1] = bl[1];
+        hi[0] = bh[0];
+        hi[1] = bh[1];
+      } else {
+        double l0 = std::min(bl[0], bl[1]), h0 = std::max(bh[0], bh[1]);
+        if (rows % 2) {
+          l0 = std::min(l0, p[rows - 1]);
+          h0 = std::max(h0, p[rows - 1]);
+        }
+        lo[0] = l0;
+        hi[0] = h0;
+      }
+      return;
+    }
+#endif
+    for (std::size_t i = 0; i < rows; ++i)
+      for (int a = 0; a < NC; ++a) {
+        l[a] = std::min(l[a], p[i * NC + static_cast<std::size_t>(a)]);
+        h[a] = std::max(h[a], p[i * NC + static_cast<std::size_t>(a)]);
+      }
+  } else {
+#pragma omp parallel for schedule(static) reduction(min : l[:NC]) reduction(max : h[:NC])
+    for (std::size_t i = 0; i < rows; ++i)
+      for (int a = 0; a < NC; ++a) {
+        l[a] = std::min(l[a], p[i * NC + static_cast<std::size_t>(a)]);
+        h[a] = std::max(h[a], p[i * NC + static_cast<std::size_t>(a)]);
+      }
+  }
+  for (int a = 0; a < NC; ++a) {
+    lo[a] = l[a];
+    hi[a] = h[a];
+  }
+}
+
+}  // namespace
 
 HealthLimits readHealthLimits(const ParameterSet* section) {
   HealthLimits h;
@@ -66,14 +143,6 @@ void HealthMonitor::start(const Simulation& sim, double initialStableTimeStep) {
   started_ = true;
 }
 
-namespace {
-// Per-particle passes of the health checks over fewer particles than this run on the calling
-// thread, outside any OpenMP region (issue 11 speed: a region costs ~1,500-2,500 instructions
-// even with one thread, a third of the pass on the 676 particles of the 2D box). Max-reductions:
-// the same result either way.
-constexpr Index kCheckParallelMin = 4096;
-}  // namespace
-
 std::vector<HealthIssue> HealthMonitor::check(const Simulation& sim) {
   std::vector<HealthIssue> issues;
   const ParticleStore& st = sim.store;
@@ -107,8 +176,31 @@ std::vector<HealthIssue> HealthMonitor::check(const Simulation& sim) {
     }
   };
   MaxAt rhoWorst, outWorst;
-  if (n < kCheckParallelMin) {
-    for (Index i = 0; i < n; ++i) scan(i, rhoWorst, outWorst);
+  if (static_cast<std::size_t>(n) < kParallelMin) {
+    // Below kParallelMin particles the bounds first (issue 11 speed: componentRange's vector
+    // min / max): the smallest density and each coordinate's range give the largest -rho and
+    // the largest distance beyond the box exactly (a subtraction is monotone, so the extreme
+    // coordinate gives the extreme distance); only a crossing is looked up particle by particle.
+    bool crossed = true;
+    if (n > 0) {
+      double rhoLo, rhoHi;
+      componentRange<1>(rho, static_cast<std::size_t>(n), &rhoLo, &rhoHi);
+      crossed = rhoLo <= 0.0;
+      if (domain) {
+        double xl[3], xh[3];
+        const std::size_t count = static_cast<std::size_t>(n) * static_cast<std::size_t>(d);
+        if (d == 1) componentRange<1>(x, count, xl, xh);
+        else if (d == 2) componentRange<2>(x, count, xl, xh);
+        else componentRange<3>(x, count, xl, xh);
+        for (int a = 0; a < d; ++a)
+          if (!periodic[static_cast<size_t>(a)])
+            crossed = crossed || std::max(lo[static_cast<size_t>(a)] - xl[a],
+                                          xh[a] - hi[static_cast<size_t>(a)]) -
+                                         margin[a] > 0.0;
+      }
+    }
+    if (crossed)
+      for (Index i = 0; i < n; ++i) scan(i, rhoWorst, outWorst);
   } else {
 #pragma omp parallel for schedule(static) reduction(maxAt : rhoWorst, outWorst)
     for (Index i = 0; i < n; ++i) scan(i, rhoWorst, outWorst);
@@ -178,12 +270,6 @@ namespace {
 
 using Storage = RollbackState::Storage;
 
-// Passes over fewer values than this run on the calling thread, outside any OpenMP region
-// (issue 11 speed, the small 2D box): a region costs ~1,500-2,500 instructions even with one
-// thread or a false `if` clause (GOMP_parallel still builds a team; callgrind) and microseconds of
-// fork and join with two, more than a pass over a few thousand values. The results do not depend
-// on it (copies, exact min / max, palettes in order of first appearance either way).
-constexpr std::size_t kParallelMin = 4096;
 
 std::uint64_t bitsOf(double v) {
   std::uint64_t b;
@@ -349,35 +435,6 @@ bool singleAllowed(const ParticleStore& st, int f, bool everyField) {
   return body == 0;
 }
 
-// Range of each of the NC components of count / NC values (lo = min, hi = max, std::min /
-// std::max in index order: the same results as one pass per component), in one pass over memory.
-// In parallel (issue 17): min and max are exact, so the chunks' ranges merged in any order give
-// the same values for finite data (the copied state passed checkFinite; a signed zero may come
-// out with either sign, which the offset's test lo > 0 || hi < 0 does not see).
-template <int NC>
-void componentRange(const double* p, std::size_t count, double* lo, double* hi) {
-  double l[NC], h[NC];
-  for (int a = 0; a < NC; ++a) l[a] = h[a] = p[a];
-  const std::size_t rows = count / NC;
-  if (count < kParallelMin) {
-    for (std::size_t i = 0; i < rows; ++i)
-      for (int a = 0; a < NC; ++a) {
-        l[a] = std::min(l[a], p[i * NC + static_cast<std::size_t>(a)]);
-        h[a] = std::max(h[a], p[i * NC + static_cast<std::size_t>(a)]);
-      }
-  } else {
-#pragma omp parallel for schedule(static) reduction(min : l[:NC]) reduction(max : h[:NC])
-    for (std::size_t i = 0; i < rows; ++i)
-      for (int a = 0; a < NC; ++a) {
-        l[a] = std::min(l[a], p[i * NC + static_cast<std::size_t>(a)]);
-        h[a] = std::max(h[a], p[i * NC + static_cast<std::size_t>(a)]);
-      }
-  }
-  for (int a = 0; a < NC; ++a) {
-    lo[a] = l[a];
-    hi[a] = h[a];
-  }
-}
 template <int NC>
 void toSingle(const double* p, std::size_t count, const double* off, float* q) {
   const std::size_t rows = count / NC;

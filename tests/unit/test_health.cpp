@@ -276,6 +276,18 @@ TEST(Health, EachCheckFiresOnItsOwnFault) {
         EXPECT_EQ(i.particle, 7);
       }
     }
+    // The low side of the other axis (the check first takes each coordinate's range, then
+    // looks up the particle: issue 11 speed).
+    x[2 * 7 + 1] = 0.01;
+    EXPECT_TRUE(m.check(*s.sim).empty());
+    x[2 * 11] = -0.003 - 0.3 * 0.026;
+    const auto low = m.check(*s.sim);
+    ASSERT_TRUE(hasCheck(low, "domain_margin"));
+    for (const auto& i : low)
+      if (i.check == "domain_margin") {
+        EXPECT_EQ(i.particle, 11);
+        EXPECT_NEAR(i.value, 0.05 * 0.026, 1e-12);
+      }
   }
   // A negative density anywhere.
   {
@@ -284,6 +296,13 @@ TEST(Health, EachCheckFiresOnItsOwnFault) {
     m.start(*s.sim, s.initialStableTimeStep);
     s.sim->store.data(s.sim->store.density())[3] = -1.0;
     EXPECT_TRUE(hasCheck(m.check(*s.sim), "density_variation"));
+    s.sim->store.data(s.sim->store.density())[3] = 0.0;  // zero is not positive either
+    const auto zero = m.check(*s.sim);
+    ASSERT_TRUE(hasCheck(zero, "density_variation"));
+    for (const auto& i : zero)
+      if (i.check == "density_variation") {
+        EXPECT_EQ(i.particle, 3);
+      }
   }
   // Energy put into a vibrating bar without work: velocities doubled (energy x ~4 of the scale).
   {
