@@ -259,9 +259,15 @@ TEST(Health, EachCheckFiresOnItsOwnFault) {
     fixedStep.start(*s.sim, 0.0);  // what the runner passes for a fixed dt
     EXPECT_FALSE(hasCheck(fixedStep.check(*s.sim), "dt_floor"));
   }
-  // A particle outside the box of the domain and the initial particles.
-  {
-    Scene s = load("box_out.yaml", waterColumn(5.0, "  hydrostatic_level: 0.02\n", 0.1));
+  // A particle outside the box of the domain and the initial particles, and a density that is
+  // not positive: at 676 particles (the one-pass path below 4,096) and at dx / 4 (10,816
+  // particles: the parallel pass).
+  for (const std::string dx : {"0.001", "0.00025"}) {
+    SCOPED_TRACE("spacing " + dx);
+    std::string text = waterColumn(5.0, "  hydrostatic_level: 0.02\n", 0.1);
+    text.replace(text.find("spacing: 0.001"), 14, "spacing: " + dx);
+    Scene s = load("box_out.yaml", text);
+    ASSERT_EQ(s.sim->store.realCount(), dx == "0.001" ? 676 : 10816);
     HealthMonitor m(s.health);
     m.start(*s.sim, s.initialStableTimeStep);
     EXPECT_TRUE(m.check(*s.sim).empty());
@@ -290,10 +296,14 @@ TEST(Health, EachCheckFiresOnItsOwnFault) {
       }
   }
   // A negative density anywhere.
-  {
-    Scene s = load("box_rho.yaml", waterColumn(5.0, "  hydrostatic_level: 0.02\n", 0.1));
+  for (const std::string dx : {"0.001", "0.00025"}) {
+    SCOPED_TRACE("spacing " + dx);
+    std::string text = waterColumn(5.0, "  hydrostatic_level: 0.02\n", 0.1);
+    text.replace(text.find("spacing: 0.001"), 14, "spacing: " + dx);
+    Scene s = load("box_rho.yaml", text);
     HealthMonitor m(s.health);
     m.start(*s.sim, s.initialStableTimeStep);
+    EXPECT_TRUE(m.check(*s.sim).empty());
     s.sim->store.data(s.sim->store.density())[3] = -1.0;
     EXPECT_TRUE(hasCheck(m.check(*s.sim), "density_variation"));
     s.sim->store.data(s.sim->store.density())[3] = 0.0;  // zero is not positive either
