@@ -16,7 +16,9 @@
 //                sum_b m_b v_ab . grad W, the energy-consistent partner of Eq. 5.2b)
 // grad W = F(r) r with r = x_a - x_b (BoundaryModel: how p_b and the continuity velocity are
 // taken). The force on a is m_a times the acceleration returned;
-// the coupling module applies minus that force to b.
+// the coupling module applies minus that force to b (evaluated with the boundary side's pressure
+// offset, FluidPairSettings::reactionPressureOffset: the same force unless
+// `pressure_reference: solid_gauge`).
 #include "libcore/artificial_viscosity.hpp"
 #include "libcore/fluid_properties.hpp"
 #include "libcore/kernel.hpp"
@@ -70,6 +72,13 @@ struct FluidPairSettings {
   double pressureOffset = 0.0;
   /// Continuity pair term (ContinuityForm above); the fluid module's `continuity_form`.
   ContinuityForm continuity = ContinuityForm::Volume;
+  /// The offset subtracted in the force that the BOUNDARY particle of a fluid-solid /
+  /// fluid-rigid pair receives (FluidBoundaryForce::reaction): pressureOffset with `none` and
+  /// `background`; the background pressure with `pressure_reference: solid_gauge`, where the
+  /// fluid's side uses the absolute pressure (pressureOffset 0) so that the walls always push,
+  /// and the solid and the plates are loaded by p - p_b only (issue 16, docs/fluid.md "The
+  /// solid-only gauge"). The pair's two forces then differ by the pair's p_b term.
+  double reactionPressureOffset = 0.0;
 };
 
 /// The fluid particle a of the pair.
@@ -160,6 +169,19 @@ struct FluidBoundaryForce {
   BoundaryModel model = BoundaryModel::Mirror;
 
   Vec<D> operator()(Index a, Index b, double& divergence) const {
+    return evaluate(a, b, divergence, settings);
+  }
+
+  /// The same force of b on the fluid particle a with the pressure offset that the boundary side
+  /// uses (settings.reactionPressureOffset): the boundary particle b receives minus this. Equal
+  /// to operator() bit for bit when the two offsets are equal (`none`, `background`).
+  Vec<D> reaction(Index a, Index b, double& divergence) const {
+    FluidPairSettings s = settings;
+    s.pressureOffset = settings.reactionPressureOffset;
+    return evaluate(a, b, divergence, s);
+  }
+
+  Vec<D> evaluate(Index a, Index b, double& divergence, const FluidPairSettings& pairSettings) const {
     Vec<D> r;
     for (int c = 0; c < D; ++c) r[c] = x[a * D + c] - x[b * D + c];
     const double F = kernel->F(r.norm());
@@ -178,7 +200,7 @@ struct FluidBoundaryForce {
       sb.v[c] = v[b * D + c];
       sb.vNoSlip[c] = vNoSlip[b * D + c];
     }
-    const FluidPairResult<D> t = fluidBoundaryPair<D>(r, F, fa, sb, settings, model);
+    const FluidPairResult<D> t = fluidBoundaryPair<D>(r, F, fa, sb, pairSettings, model);
     divergence = t.divergence;
     const double factor = viscousFactor ? viscousFactor[a] : 1.0;
     return m[a] * (t.pressure + factor * t.viscous + t.artificial);

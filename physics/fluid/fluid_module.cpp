@@ -187,8 +187,23 @@ void FluidModule::configure(Simulation& sim, const std::vector<const Material*>&
     artificialViscosity_ = s.real("artificial_viscosity", 0.0, Range::closed(0.0, 10.0));
     xsph_ = s.real("xsph", 0.0, Range::closed(0.0, 1.0));
     shifting_ = s.real("shifting", 0.0, Range::closed(0.0, 10.0));
-    pressureReference_ =
-        s.choice("pressure_reference", "none", {"none", "background"}) == "background";
+    // pressure_reference: none (absolute pressure in every force), background (p - p_b in every
+    // pressure force: fluid-fluid, fluid-wall and both sides of the fluid-solid / fluid-rigid
+    // pairs), or solid_gauge (issue 16): the fluid's side of every pair keeps the absolute
+    // pressure, as with none, so that the walls' extrapolated pressure (Adami et al. 2012) stays
+    // positive in the force and pushes; the elastic solid and the rigid plates receive the
+    // force with p - p_b, as with background, so the clay is not loaded by p_b. The pair forces
+    // of a fluid-solid pair then differ by the p_b term m_a m_b p_b (1/rho_a^2 + 1/rho_b^2)
+    // grad W (Eq. 5.2b's form at the boundary), whose sum over a complete support is ~0
+    // (docs/fluid.md "The solid-only gauge"). Not the drainage setting: without the tensile
+    // instability of the gauge forces the fluid's mean pressure stays at p_b, so the outlet side
+    // of a periodic drainage sits at -dP/2 (not ~0) and sucks on the clay (main job: damaged
+    // 8.3 % against 0.40 %); the drainage scenes use wall_push_only (below) instead.
+    {
+      const std::string ref = s.choice("pressure_reference", "none", {"none", "background", "solid_gauge"});
+      pressureReference_ = ref == "background";
+      solidGauge_ = ref == "solid_gauge";
+    }
     // With pressure_reference: background the pressure forces use p - p_b, which is negative
     // where the flow lowers the pressure (the drainage's outlet side); the walls' extrapolated
     // pressure (Adami et al. 2012) then pulls a fluid particle into the wall instead of pushing
@@ -203,6 +218,18 @@ void FluidModule::configure(Simulation& sim, const std::vector<const Material*>&
     // outlet reservoir's gas at the wall-clay corner, and the damaged fraction doubles
     // (docs/fluid.md "Fluid at the walls under a negative gauge pressure").
     wallBackground_ = s.boolean("wall_background_pressure", false);
+    // wall_push_only (issue 16, the drainage scenes' setting): the fluid-wall pairs (fixed
+    // `model: wall` particles) take the positive parts of the force pressures,
+    //   -m_w [max(p_a - p_ref, 0) / rho_a^2 + max(p_w - p_ref, 0) / rho_w^2] grad W_aw
+    // (Eq. 5.2b's pair with Adami et al. 2012's extrapolated p_w; Hu-Adams likewise), so a fixed
+    // wall pushes a fluid particle with a positive gauge pressure and never pulls one with a
+    // negative gauge (the tensile instability at the wall that let the outlet reservoir's fluid
+    // through the walls, docs/fluid.md "Fluid at the walls under a negative gauge pressure").
+    // The fluid-fluid pairs keep p - p_ref (their pressure level is the one of `background`),
+    // and the solid and the plates are not touched (their suction is physical). A wall cannot
+    // hold the fluid in tension then: the hydrostatic balance at a wall is exact where
+    // p >= p_ref only. Full neighbour list (the gather loop).
+    wallPushOnly_ = s.boolean("wall_push_only", false);
     transportVelocity_ = s.boolean("transport_velocity", false);
     densityBound_ = s.real("density_variation_bound", 0.03, Range{0.0, 1.0, true, false});
     cflAcoustic_ = s.real("cfl_acoustic", 0.25, Range{0.0, 1.0, true, false});
@@ -272,10 +299,13 @@ void FluidModule::configure(Simulation& sim, const std::vector<const Material*>&
     if (wallMirrorLight_)
       for (size_t a = 0; a < mat_.size(); ++a) wallMirror_[a] = mat_[a].fluid && mat_[a].rho0 < heaviest;
   }
+  // The fluid side's pressure offset (fluid-wall pairs here, the fluid's side of the coupling's
+  // and the rigid module's pairs) and the boundary side's (what the solid / plate receives).
   sim.fluidPairSettings = FluidPairSettings{pressureForm_ == PressureForm::HuAdams, harmonicMean_,
                                             artificialViscosity_, sim.kernel.h(),
                                             pressureReference_ ? backgroundPressure_ : 0.0,
-                                            continuityForm_};
+                                            continuityForm_,
+                                            pressureReference_ || solidGauge_ ? backgroundPressure_ : 0.0};
 
   // fields (produce = register-if-absent)
   auto& st = sim.store;
@@ -1192,6 +1222,9 @@ void FluidModule::forcesD(Simulation& sim) {
   if (bgOn && nl.half)
     throw InputError("fluid: wall_background_pressure needs the full neighbour list (neighbour_list: "
                      "full or auto), or wall_background_pressure: false");
+  if (wallPushOnly_ && nl.half)
+    throw InputError("fluid: wall_push_only needs the full neighbour list (neighbour_list: full or "
+                     "auto), or wall_push_only: false");
   if (wallMirrorLight_ && nl.half)
     throw InputError("fluid: wall_pressure: light_mirror needs the full neighbour list "
                      "(neighbour_list: full or auto)");
@@ -1251,8 +1284,15 @@ void FluidModule::forcesD(Simulation& sim) {
         if (f.ph[j] == kPhaseWall) {
           // Fixed boundary: extrapolated pressure, no-slip velocity (the shared pair terms).
           // wall_pressure: light_mirror: a lighter fluid takes its own pressure and density there.
+          // wall_push_only: the positive parts of the force pressures p - p_ref (configure).
+          BoundaryPairSide<D> sideW = wallPairSide<D>(f, j, vol, wallRho, vb);
+          FluidPairSide<D> sideP = sideA;
+          if (wallPushOnly_) {
+            sideW.p = std::max(sideW.p, pOff);  // rho_w stays the density at the extrapolated p_w
+            sideP.p = std::max(sideP.p, pOff);
+          }
           const FluidPairResult<D> t =
-              fluidBoundaryPair<D>(r, F, sideA, wallPairSide<D>(f, j, vol, wallRho, vb), pairSettings,
+              fluidBoundaryPair<D>(r, F, sideP, sideW, pairSettings,
                                    mirrorAtWalls ? BoundaryModel::Mirror : BoundaryModel::Extrapolated);
           aP += t.pressure;
           aV += fa * t.viscous;
@@ -1398,9 +1438,11 @@ ModuleSettings FluidModule::settings() const {
       {"fluid.surface_tension_weighting", densityWeightedCsf_ ? "density" : "none", "density"},
       {"fluid.wall_pressure_surface_tension", wallCsf_ ? "true" : "false", "false"},
       {"fluid.wall_background_pressure", wallBackground_ ? "true" : "false", "false"},
+      {"fluid.wall_push_only", wallPushOnly_ ? "true" : "false", "false"},
       {"fluid.wetting", wettingNormal_ ? "normal" : "colour", "normal"},
       {"fluid.wall_normal", wideWallNormal_ ? "wide" : "local", "local"},
-      {"fluid.pressure_reference", pressureReference_ ? "background" : "none", "none"},
+      {"fluid.pressure_reference", pressureReference_ ? "background" : solidGauge_ ? "solid_gauge" : "none",
+       "none"},
       {"fluid.pair_precision", floatPairs_ ? "float" : "double", "double"},
   };
 }

@@ -114,8 +114,8 @@ class FluidModule : public Module {
   }
   /// Every loop has a symmetric form for a half list (fluid_half.cpp) except the surface
   /// tension's (colour gradient, curvature, CSF), which needs the full list.
-  bool supportsHalfNeighbourList() const override {  // CSF, light_mirror, wall_background_pressure: full list
-    return gamma_ == 0.0 && !wallMirrorLight_ && !(wallBackground_ && pressureReference_);
+  bool supportsHalfNeighbourList() const override {  // CSF, light_mirror, wall_background_pressure, wall_push_only: full list
+    return gamma_ == 0.0 && !wallMirrorLight_ && !(wallBackground_ && pressureReference_) && !wallPushOnly_;
   }
   /// `pair_precision: float`: the fluid-fluid pairs of the symmetric force loop in single precision.
   bool floatPairs() const { return floatPairs_; }
@@ -241,6 +241,7 @@ class FluidModule : public Module {
   bool balancedCsf_ = false;        // surface_tension_form: balanced (surface_tension.hpp)
   bool wallCsf_ = false;            // wall_pressure_surface_tension: a_s in the walls' extrapolation
   bool wallBackground_ = false;     // wall_background_pressure: p_b's force kept next to fixed walls
+  bool wallPushOnly_ = false;       // wall_push_only: fluid-wall pairs with max(p - p_ref, 0)
   double curvatureSmoothing_ = 2.0; // balanced form: curvature Shepard radius / h
   std::vector<double> kappaWork_;   // balanced form: smoothed curvature (surface_tension.cpp)
   double normalThreshold_ = 0.05;   // |n| h below which a normal is not used (5.8)
@@ -255,7 +256,8 @@ class FluidModule : public Module {
   double artificialViscosity_ = 0.0;  // alpha of Eq. 2.64 (0: off)
   double xsph_ = 0.0;               // epsilon of XSPH, Eq. 2.66 (0: off)
   double shifting_ = 0.0;           // coefficient A of the particle shifting velocity (0: off)
-  bool pressureReference_ = false;  // subtract the background pressure in the pressure force
+  bool pressureReference_ = false;  // background: subtract p_b in every pressure force
+  bool solidGauge_ = false;         // solid_gauge: p_b subtracted only in the force on solids / plates
   bool transportVelocity_ = false;  // background pressure in the advection (Adami et al. 2013)
   bool floatPairs_ = false;         // pair_precision: float (fluid-fluid block of fluid_half.cpp)
   std::string pairPrecisionWhere_;  // where the scene set it (for the full-list error)

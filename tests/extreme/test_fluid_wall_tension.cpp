@@ -10,7 +10,9 @@
 // 0.01 / 0.001 Pa s, gamma = 0.002 N/m: the main job's fluids), gravity 150 m/s^2 downwards with
 // the hydrostatic start from the floor (hydrostatic_level 0): p - p_b = -rho g y, -240 Pa at the
 // ceiling. Without fluid.wall_background_pressure (default false) fluid particles go beyond the
-// wall faces (2 particles, up to 0.143 dx, from ~12 ms); with it none do.
+// wall faces (2 particles, up to 0.143 dx, from ~12 ms); with it none do. The second case runs
+// fluid.wall_push_only (issue 16, the drainage scenes' setting): the fixed walls' pair force with
+// the positive parts of the gauge pressures, so it never pulls; none beyond either.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -24,7 +26,20 @@
 
 using namespace poresph;
 
-TEST(FluidWallTension, NoFluidBeyondTheWallFacesUnderNegativeGaugePressure) {
+namespace {
+
+struct WallTensionResult {
+  int worstCount = 0;
+  double worstDepth = -1e300;  // m, < 0: inside
+  double densityVariation = 0.0;
+  long long steps = 0;
+  double seconds = 0.0;
+};
+
+// The box below with `key` (", wall_background_pressure: true" or ", wall_push_only: true") in
+// the fluid section; WALL_TENSION_FORMER=1 runs without it (the former behaviour, which both
+// cases fail); WALL_TENSION_EXTRA: extra fluid keys (", k: v").
+WallTensionResult runWallTensionBox(const std::string& key) {
   namespace fs = poresph::fluidsetup;
   test::Stopwatch clock;
   const double dx = 1e-4, L = 2e-3, H = 1.6e-3, t = 3 * dx;
@@ -39,9 +54,7 @@ TEST(FluidWallTension, NoFluidBeyondTheWallFacesUnderNegativeGaugePressure) {
   const int gas = fs::addMaterial(sim, "gas", "fluid",
                                   "{density: 1000, sound_speed: 5, viscosity: 0.001, colour: -1, background_pressure: 600}");
   const int wall = fs::addMaterial(sim, "wall", "wall", "{density: 1000, contact_angle: 60}");
-  // The key under test (default false, see docs/fluid.md); WALL_TENSION_FORMER=1 runs without it
-  // (the former behaviour, which this test fails); WALL_TENSION_EXTRA: extra fluid keys (", k: v").
-  std::string extra = std::getenv("WALL_TENSION_FORMER") ? "" : ", wall_background_pressure: true";
+  std::string extra = std::getenv("WALL_TENSION_FORMER") ? "" : key;
   if (std::getenv("WALL_TENSION_EXTRA")) extra += std::getenv("WALL_TENSION_EXTRA");
   FluidModule* fluid = fs::addFluidModule(
       sim, "{surface_tension: 0.002, pressure_reference: background, gravity: [0, -150], hydrostatic_level: 0" +
@@ -54,8 +67,7 @@ TEST(FluidWallTension, NoFluidBeyondTheWallFacesUnderNegativeGaugePressure) {
   fs::Stepper stepper;
   // Depth of the deepest fluid particle beyond a wall face (< 0: inside the box; the first
   // layer sits 0.5 dx from the faces) and the count of those beyond, every 0.5 ms to 20 ms.
-  int worstCount = 0;
-  double worstDepth = -1e300;
+  WallTensionResult res;
   for (int k = 1; k <= 40; ++k) {
     stepper.runTo(sim, 0.0005 * k);
     const auto& st = sim.store;
@@ -65,22 +77,49 @@ TEST(FluidWallTension, NoFluidBeyondTheWallFacesUnderNegativeGaugePressure) {
     for (Index i = 0; i < st.realCount(); ++i) {
       if (mt[i] != water && mt[i] != gas) continue;
       const double d = std::max({-x[2 * i], x[2 * i] - L, -x[2 * i + 1], x[2 * i + 1] - H});
-      worstDepth = std::max(worstDepth, d);
+      res.worstDepth = std::max(res.worstDepth, d);
       if (d > 0.0) ++count;
     }
-    worstCount = std::max(worstCount, count);
+    res.worstCount = std::max(res.worstCount, count);
   }
-  std::printf("fluid beyond the wall faces: at most %d particles, deepest %.3f dx (< 0: inside), max density "
+  res.densityVariation = fluid->maxDensityVariation();
+  res.steps = static_cast<long long>(sim.step);
+  res.seconds = clock.seconds();
+  std::printf("%s: fluid beyond the wall faces: at most %d particles, deepest %.3f dx (< 0: inside), max density "
               "variation %.3g, %lld steps, %.1f s\n",
-              worstCount, worstDepth / dx, fluid->maxDensityVariation(), static_cast<long long>(sim.step),
-              clock.seconds());
-  EXPECT_EQ(worstCount, 0);
-  EXPECT_LT(worstDepth, 0.0);
+              key.c_str(), res.worstCount, res.worstDepth / dx, res.densityVariation, res.steps, res.seconds);
+  return res;
+}
+
+}  // namespace
+
+TEST(FluidWallTension, NoFluidBeyondTheWallFacesUnderNegativeGaugePressure) {
+  const double dx = 1e-4;
+  const WallTensionResult r = runWallTensionBox(", wall_background_pressure: true");
+  EXPECT_EQ(r.worstCount, 0);
+  EXPECT_LT(r.worstDepth, 0.0);
   test::recordValidation({"fluid_wall_tension_2d", "deepest fluid particle beyond the wall faces / dx (< 0: none beyond)",
-                          worstDepth / dx, 0.0, worstDepth / dx,
+                          r.worstDepth / dx, 0.0, r.worstDepth / dx,
                           "closed box 20 x 16 dx, quintic h = dx, water / gas at equal densities, c = 5 m/s, "
                           "p_b = 600 Pa (pressure_reference: background), gamma 0.002 N/m, 60 deg, g = 150 m/s^2, "
                           "p - p_b = -240 Pa at the ceiling, 20 ms",
-                          clock.seconds(), "< 0 (no fluid particle beyond a wall face)",
+                          r.seconds, "< 0 (no fluid particle beyond a wall face)",
                           "impermeable wall (Adami et al. 2012 with a positive pressure in the force)"});
+}
+
+// wall_push_only (the drainage scenes' setting): the same box, none beyond the faces; without
+// the key (WALL_TENSION_FORMER=1) 2 particles go 0.143 dx beyond, and the test fails.
+TEST(FluidWallTension, WallPushOnlyKeepsTheFluidInsideUnderNegativeGaugePressure) {
+  const double dx = 1e-4;
+  const WallTensionResult r = runWallTensionBox(", wall_push_only: true");
+  EXPECT_EQ(r.worstCount, 0);
+  EXPECT_LT(r.worstDepth, 0.0);
+  test::recordValidation({"fluid_wall_tension_push_only_2d",
+                          "deepest fluid particle beyond the wall faces / dx (< 0: none beyond)",
+                          r.worstDepth / dx, 0.0, r.worstDepth / dx,
+                          "closed box 20 x 16 dx, quintic h = dx, water / gas at equal densities, c = 5 m/s, "
+                          "p_b = 600 Pa (pressure_reference: background, wall_push_only), gamma 0.002 N/m, 60 deg, "
+                          "g = 150 m/s^2, p - p_b = -240 Pa at the ceiling, 20 ms",
+                          r.seconds, "< 0 (no fluid particle beyond a wall face)",
+                          "impermeable wall (Adami et al. 2012; the wall pair with max(p - p_b, 0))"});
 }
