@@ -353,3 +353,51 @@ coupling: {fluid_solid: )") + model + "}\n";
     EXPECT_LT(worst, 0.01);
   }
 }
+
+// pressure_reference: solid_gauge (issue 16 W1, docs/fluid.md "The solid-only gauge"): the fluid's
+// side of every pair uses the absolute pressure (as with none), the solid receives p - p_b (as
+// with background). The same disturbed state evaluated with the three references: the solid's
+// accelerations are background's, the fluid's are none's, and none's solid differs by p_b's load.
+TEST(PairClasses, SolidGaugeLoadsTheSolidWithTheGaugePressureOnly) {
+  auto accelerations = [](const std::string& reference) {
+    Scene s = loadSceneText(
+        scene("  - {name: water, model: fluid, density: 1000, sound_speed: 10, viscosity: 1.0e-3, "
+              "background_pressure: 600}\n" + kClay,
+              "  - {shape: box, lo: [0, 0], hi: [0.02, 0.02], material: water}\n"
+              "  - {shape: sphere, centre: [0.01, 0.01], radius: 0.004, material: clay}\n",
+              "fluid: {pressure_reference: " + reference + "}\n"),
+        "gauge.yaml");
+    Simulation& sim = *s.sim;
+    ParticleStore& st = sim.store;
+    for (Index i = 0; i < st.realCount(); ++i)
+      if (st.data(st.phase())[i] == kPhaseFluid)
+        st.data(st.density())[i] = 1000.0 * (1.0 + 0.01 * std::sin(12.9898 * i));
+    sim.evaluateRates();
+    std::vector<std::pair<int, Vec<2>>> a;  // phase, acceleration
+    for (Index i = 0; i < st.realCount(); ++i)
+      a.emplace_back(st.data(st.phase())[i], st.vec<2>(sim.acceleration, i));
+    return a;
+  };
+  const auto bg = accelerations("background"), sg = accelerations("solid_gauge"),
+             none = accelerations("none");
+  ASSERT_EQ(bg.size(), sg.size());
+  ASSERT_EQ(none.size(), sg.size());
+  double solidVsBg = 0.0, fluidVsNone = 0.0, solidNoneVsSg = 0.0, fluidBgVsSg = 0.0, scale = 0.0;
+  Index solids = 0;
+  for (size_t k = 0; k < sg.size(); ++k) {
+    scale = std::max(scale, sg[k].second.norm());
+    if (sg[k].first == kPhaseSolid) {
+      ++solids;
+      solidVsBg = std::max(solidVsBg, (sg[k].second - bg[k].second).norm());
+      solidNoneVsSg = std::max(solidNoneVsSg, (sg[k].second - none[k].second).norm());
+    } else if (sg[k].first == kPhaseFluid) {
+      fluidVsNone = std::max(fluidVsNone, (sg[k].second - none[k].second).norm());
+      fluidBgVsSg = std::max(fluidBgVsSg, (sg[k].second - bg[k].second).norm());
+    }
+  }
+  ASSERT_GT(solids, 0);
+  EXPECT_EQ(solidVsBg, 0.0) << "the solid sees p - p_b, as with background";
+  EXPECT_EQ(fluidVsNone, 0.0) << "the fluid sees the absolute pressure, as with none";
+  EXPECT_GT(solidNoneVsSg, 1e-3 * scale) << "with none the solid carries p_b as well";
+  EXPECT_GT(fluidBgVsSg, 1e-3 * scale) << "the fluid's forces differ from background's";
+}
