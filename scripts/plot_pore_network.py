@@ -50,17 +50,21 @@ def one(net, img, base, title, ax, bx):
     fb = [[r[3 + k] for r in rows] for k in range(nb)]
     ft = [[r[3 + nb + k] for r in rows] for k in range(nt)]
     # events as the test reads them: a body is invaded when its gas fraction passes 0.5, through
-    # the throat to the gas cluster holding the most gas; breakthrough at > 100 gas particles in
+    # the widest throat to the gas cluster filled with gas; breakthrough at > 100 gas particles in
     # the outlet reservoir
     order, border, tbreak, gasn = [], [], None, {-1}
 
     def cross(node, j):
+        # the throat filled with gas to its exit (> 0.8) and widest, else the one with the most gas
+        def key(tid):
+            full = ft[tid][j] > 0.8
+            return (full, net["throats"][tid]["width"] if full else 0, ft[tid][j])
         best = None
         for th in net["throats"]:
             other = th["b"] if th["a"] == node else th["a"] if th["b"] == node else None
             if other is None or other not in gasn:
                 continue
-            if best is None or ft[th["id"]][j] > ft[best][j]:
+            if best is None or key(th["id"]) > key(best):
                 best = th["id"]
         if best is not None:
             order.append(best)
