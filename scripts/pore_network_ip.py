@@ -9,7 +9,9 @@ joined to an inlet reservoir (gas) and the right column to an outlet reservoir (
 throats drawn the same way. Every throat is a slit on the lattice, so its 2D Young-Laplace
 entry pressure is exactly Pc = 2 gamma cos(theta) / w (Eq. 1.5 in 2D); a body (B > wmax) fills
 at a lower pressure once its throat is passed (a Haines jump), so the drainage order is that of
-the throats.
+the throats. (Passing a sharp-edged throat takes more than entering it: the meniscus pins at the
+exit corners and must bulge to a half circle, 2 gamma / w; that scales as 1 / w too, so the order
+is the same - docs/fluid.md, tests/validation/test_fluid_pore_network_long.cpp.)
 
 Invasion percolation (Wilkinson & Willemsen 1983) with trapping: the gas cluster starts as the
 inlet; at each step the throat on the cluster's boundary with the lowest entry pressure (the
