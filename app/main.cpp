@@ -223,7 +223,11 @@ int commandRun(const std::string& scenePath, std::string outDir, bool force,
   end << "steps " << r.steps << ", time " << r.time << " s, wall " << r.wallSeconds << " s, "
       << r.snapshots << " snapshots, checkpoint " << r.checkpoint << "\n";
   switch (r.status) {
-    case RunStatus::Finished: end << "status: finished\n"; break;
+    case RunStatus::Finished: {
+      const std::string reason = scene.endConditionMet();
+      end << "status: finished" << (reason.empty() ? "" : " (" + reason + ")") << "\n";
+      break;
+    }
     case RunStatus::Interrupted: end << "status: interrupted by signal " << r.signal << "\n"; break;
     case RunStatus::Failed: end << "status: numerical failure: " << r.message << "\n"; break;
   }

@@ -362,7 +362,8 @@ void readCheckpoint(Simulation& sim, const std::string& path,
       fail(path, "was written by a scene with other physics or geometry (scene signature " + got +
                      ", this scene " + expectedSignature +
                      "): restart with the scene that wrote it; only end_time, max_steps, "
-                     "time_step, output and health may change between the runs");
+                     "time_step, output, health and drainage.stop_after_percolation may change "
+                     "between the runs");
   }
 
   if (H5Lexists(file, "fields", H5P_DEFAULT) <= 0) fail(path, "group 'fields' is missing");

@@ -107,6 +107,11 @@ class Module {
   /// multi-stage step, so state changed here is seen by the next step's first evaluation.
   virtual void endOfStep(Simulation& sim, double dt) {}
 
+  /// A module's own end of the run (e.g. the drainage's `stop_after_percolation`): non-empty,
+  /// the reason, once it holds; the run then ends as at end_time (last row, snapshot and
+  /// checkpoint written). Scene::finished() asks every module after each step.
+  virtual std::string endCondition(const Simulation& sim) const { return {}; }
+
   /// Non-per-particle state to checkpoint (see ModuleState); empty by default. A module that
   /// returns entries here receives the same entries, same names and lengths, in restoreState()
   /// when a checkpoint is read or a failed step is rolled back.

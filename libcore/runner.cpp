@@ -87,6 +87,9 @@ std::string fnv1a(const std::string& text) {
 namespace {
 
 const char* const kClockKeys[] = {"end_time", "max_steps", "time_step", "output", "health"};
+// Keys inside a module's section that say only when the run ends (a run may be continued with
+// another value, as with end_time).
+const char* const kClockSectionKeys[] = {"drainage.stop_after_percolation"};
 
 std::vector<std::string> splitKey(const std::string& key) {
   std::vector<std::string> parts;
@@ -145,6 +148,7 @@ void eraseKey(YAML::Node root, const std::vector<std::string>& parts) {
 std::string signatureWithout(const Scene& scene, const std::vector<std::string>& keys) {
   YAML::Node physics = YAML::Clone(scene.resolved);
   for (const char* key : kClockKeys) physics.remove(key);
+  for (const char* key : kClockSectionKeys) eraseKey(physics, splitKey(key));
   for (const std::string& key : keys) eraseKey(physics, splitKey(key));
   YAML::Emitter e;
   e << physics;
@@ -266,6 +270,10 @@ void restoreCheckpoint(Scene& scene, const std::string& path, ModuleState* integ
   readCheckpoint(sim, path, expected, integratorState);
   if (printWarnings)
     for (const std::string& w : warnings) std::fputs(w.c_str(), stderr);
+  if (const std::string reason = scene.endConditionMet(); !reason.empty())
+    throw InputError(path + ": the checkpoint at time " + std::to_string(sim.time) +
+                     " s already meets the run's end condition (" + reason + "): change it in " +
+                     scene.file + " to continue the run");
   if (scene.finished())
     throw InputError(path + ": the checkpoint is at time " + std::to_string(sim.time) +
                      " s, step " + std::to_string(sim.step) + ", which is not before the end of " +

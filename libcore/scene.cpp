@@ -654,7 +654,16 @@ double Scene::nextTimeStep() const {
 
 bool Scene::finished() const {
   if (maxSteps > 0 && sim->step >= maxSteps) return true;
-  return sim->time >= endTime * (1.0 - 1e-12);
+  if (sim->time >= endTime * (1.0 - 1e-12)) return true;
+  return !endConditionMet().empty();
+}
+
+std::string Scene::endConditionMet() const {
+  for (const auto& m : sim->modules) {
+    std::string reason = m->endCondition(*sim);
+    if (!reason.empty()) return reason;
+  }
+  return {};
 }
 
 Index latticeNeighbourCount(int dimension, double supportOverDx) {

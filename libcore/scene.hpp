@@ -107,6 +107,9 @@ struct Scene {
   double nextTimeStep() const;
   /// True once end_time (or max_steps) is reached.
   bool finished() const;
+  /// The first module end condition that holds (Module::endCondition), "" if none: the reason
+  /// a run ended before end_time and max_steps.
+  std::string endConditionMet() const;
 };
 
 /// Reads and builds a scene. Throws InputError (file, line, key, value in the message).

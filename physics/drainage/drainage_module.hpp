@@ -71,6 +71,8 @@ class DrainageModule : public Module {
   /// Pore space plus damaged solid spans the slab (drainage_flow_path).
   bool flowPathSpans(const Simulation& sim) const;
   double percolationTime() const { return percolationTime_; }
+  /// `stop_after_percolation: t`: the run ends t seconds after the percolation time.
+  std::string endCondition(const Simulation& sim) const override;
   /// Characteristic pore size L of Eqs. 5.11a/5.14a: `pore_size` or the measured hydraulic
   /// diameter (0 before initialise without the key).
   double poreSize() const { return poreSize_; }
@@ -87,6 +89,7 @@ class DrainageModule : public Module {
   int invading_ = -1, defending_ = -1;  // material ids
   std::vector<char> inclusion_;           // by material id: a rigid inclusion of the sample
   long checkEvery_ = 10;
+  double stopAfterPercolation_ = -1.0;  // stop_after_percolation (s); < 0: not set
   mutable double percolationTime_ = -1.0;  // first time seen (endOfStep or an output row)
   mutable double flowPathTime_ = -1.0;     // likewise for drainage_flow_path
   /// One cluster of `member` particles (short real links) within dx of both slab faces.

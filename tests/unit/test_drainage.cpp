@@ -6,9 +6,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <functional>
 
 #include "libcore/checkpoint.hpp"
+#include "libcore/runner.hpp"
 #include "libcore/scene.hpp"
 #include "physics/drainage/drainage_module.hpp"
 
@@ -262,4 +264,51 @@ TEST(Drainage, InfoPrintsSimulatedAndPhysicalNumbers) {
                   "bad.yaml");
   });
   EXPECT_NE(bad.find("gas_viscocity"), std::string::npos) << bad;
+}
+
+// stop_after_percolation: a run whose gas already spans the sample ends that long after the
+// percolation time, not at end_time, and its log reason names the key; a restart from that
+// checkpoint is refused naming it; without the key the run goes on to end_time.
+TEST(Drainage, StopAfterPercolationEndsTheRun) {
+  // The channel holds gas from the start: the gas spans the slab at the first check.
+  auto gasChannel = [](const std::string& keys) {
+    std::string t = scene(keys);
+    const std::string from = "hi: [0.012, 0.02], material: water}";
+    t.replace(t.find(from), from.size(), "hi: [0.012, 0.02], material: gas}");
+    return t;
+  };
+  const std::string fast =
+      "{invading: gas, defending: water, axis: y, sample: [0.01, 0.02], pressure_drop: 0.4, "
+      "percolation_every: 1";
+  const std::string dir = std::string(PORESPH_BINARY_DIR) + "/test-drainage-stop";
+  auto run = [&](const std::string& drainageKeys, const std::string& out) {
+    Scene s = loadSceneText(gasChannel(drainageKeys), "drainage.yaml");
+    RunOptions o;
+    o.outDir = dir + "/" + out;
+    o.handleSignals = false;
+    const RunResult r = runScene(s, o);
+    EXPECT_EQ(r.status, RunStatus::Finished);
+    return std::make_pair(r, drainage(s).percolationTime());
+  };
+  std::filesystem::remove_all(dir);
+  const auto [stopped, tp] = run(fast + ", stop_after_percolation: 0.0002}", "stop");
+  ASSERT_GE(tp, 0.0);
+  EXPECT_LT(tp, 1e-4);                       // percolated within the first steps
+  EXPECT_GE(stopped.time, tp + 0.0002 - 1e-12);
+  EXPECT_LT(stopped.time, tp + 0.0002 + 1e-4);  // within one step (dt ~ 2e-5 s here) of it
+  const auto [full, tp2] = run(fast + "}", "full");
+  EXPECT_DOUBLE_EQ(full.time, 0.001);         // end_time
+  EXPECT_DOUBLE_EQ(tp2, tp);
+
+  Scene again = loadSceneText(gasChannel(fast + ", stop_after_percolation: 0.0002}"), "drainage.yaml");
+  const std::string m = message([&] { restoreCheckpoint(again, stopped.checkpoint); });
+  EXPECT_NE(m.find("drainage.stop_after_percolation"), std::string::npos) << m;
+  // It is a clock key: a run continues with another value (or none), as with end_time.
+  Scene other = loadSceneText(gasChannel(fast + ", stop_after_percolation: 0.01}"), "drainage.yaml");
+  Scene none = loadSceneText(gasChannel(fast + "}"), "drainage.yaml");
+  EXPECT_EQ(sceneSignature(other), sceneSignature(again));
+  EXPECT_EQ(sceneSignature(none), sceneSignature(again));
+  EXPECT_NE(message([&] { loadSceneText(scene(fast + ", stop_after_percolation: -1}"), "d.yaml"); })
+                .find("drainage.stop_after_percolation"),
+            std::string::npos);
 }
