@@ -486,8 +486,12 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
   auto receives = [recv](Index i) { return recv[i] != 0; };
   // One fluid material: every receiving particle is of it (the block's material columns are then
   // constants, above).
-  int fluidMaterials = 0;
-  for (int k = 0; k < nm; ++k) fluidMaterials += md[k].fluid ? 1 : 0;
+  int fluidMaterials = 0, theFluid = 0;
+  for (int k = 0; k < nm; ++k)
+    if (md[k].fluid) {
+      ++fluidMaterials;
+      theFluid = k;
+    }
   const bool oneFluid = fluidMaterials == 1;
   auto valid = [&](int id) { return id >= 0 && id < nm; };
   // Rows of boundary particles without a fluid neighbour (the constitutive stage's flags, a
@@ -518,6 +522,24 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
     {
       FluidFluidBlock<double, D> blockD;
       FluidFluidBlock<float, D> blockF;
+      // The block's columns that are the same for every pair of the run, filled once per thread
+      // instead of per block (issue 17, docs/performance.md "Instruction counts, case A"): the
+      // material's sound speed, viscosity and same-material flag with one fluid material, the
+      // viscous factor without the factors, the continuity weight without the acoustic interface.
+      auto fillConstantColumns = [&](auto& blk) {
+        using Real = typename std::decay_t<decltype(blk)>::real_type;
+        for (int q = 0; q < kBlock; ++q) {
+          if (oneFluid) {
+            blk.c[q] = static_cast<Real>(md[theFluid].soundSpeed);
+            blk.mu[q] = static_cast<Real>(md[theFluid].viscosity);
+            blk.same[q] = Real(1);
+          }
+          if (!f.visc) blk.visc[q] = Real(1);
+          if (!acousticInterface_) blk.wc[q] = Real(1);
+        }
+      };
+      fillConstantColumns(blockD);
+      fillConstantColumns(blockF);
       scatter_.forBlocks([&](int t) {
         scatter_.zero(t, own);
         for (Index i = scatter_.begin(t); i < scatter_.end(t); ++i) {
@@ -570,15 +592,8 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
             }
             // The neighbour's material: with one fluid material every receiving particle has it,
             // so both particles of a block pair are of i's material (the same values as the
-            // per-pair lookup).
-            if (oneFluid) {
-              const Real cA = static_cast<Real>(mA->soundSpeed), muA = static_cast<Real>(mA->viscosity);
-              for (int q = 0; q < nb; ++q) {
-                blk.c[q] = cA;
-                blk.mu[q] = muA;
-                blk.same[q] = Real(1);
-              }
-            } else {
+            // per-pair lookup): those columns were filled once per thread (fillConstantColumns).
+            if (!oneFluid) {
               for (int q = 0; q < nb; ++q) {
                 const int mtj = f.mt[blk.j[q]];
                 const MaterialData& mB = md[mtj];
@@ -589,15 +604,12 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
             }
             // The optional columns in loops of their own, the option tested once per block (the
             // same values as a test per pair; issue 17, docs/performance.md "Instruction counts").
+            // (without them the columns hold 1, filled once per thread)
             if (const double* fv = f.visc)
               for (int q = 0; q < nb; ++q) blk.visc[q] = static_cast<Real>(fv[blk.j[q]]);
-            else
-              for (int q = 0; q < nb; ++q) blk.visc[q] = Real(1);
             if (acousticInterface_)
               for (int q = 0; q < nb; ++q)
                 blk.wc[q] = static_cast<Real>(ifaceWeight_[static_cast<size_t>(ida * nm + f.mt[blk.j[q]])]);
-            else
-              for (int q = 0; q < nb; ++q) blk.wc[q] = Real(1);
             constexpr auto kSym = FluidPressureForm::Symmetric, kHu = FluidPressureForm::HuAdams,
                            kVol = FluidPressureForm::Volume;
             if (pForm == kHu)
@@ -623,7 +635,7 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
                 if constexpr (decltype(withMoment)::value) tb[kMom] += static_cast<double>(blk.momB[q]);
                 divA += static_cast<double>(blk.divA[q]);
                 diffA += static_cast<double>(blk.diffA[q]);
-                momA += static_cast<double>(blk.momA[q]);
+                if constexpr (decltype(withMoment)::value) momA += static_cast<double>(blk.momA[q]);
               }
             };
             if (momOn) scatterBlock(std::true_type{});
