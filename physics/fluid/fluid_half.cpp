@@ -107,7 +107,20 @@ PORESPH_BLOCK_CLONES void fluidFluidBlockTerms(FluidFluidBlock<Real, D>& b, cons
       r2 += b.r[a][q] * b.r[a][q];
       vr += b.vab[a][q] * b.r[a][q];
     }
-    const Real F = kScale * KernelShape<K, D>::template dOverQBlend<Real>(b.dist[q] * invH, qMax);
+    // In double the distance and the density difference are taken here, vectorised (the sqrt
+    // without errno: this file is compiled with -fno-math-errno, CMakeLists.txt), from the same
+    // doubles the gather computed them from, so with the same bits; in float they come from
+    // the gather, in double (the float path's rounding as before).
+    constexpr bool kInBlock = std::is_same_v<Real, double>;
+    Real dist, drho;
+    if constexpr (kInBlock) {
+      dist = std::sqrt(r2);
+      drho = rhoa - b.rho[q];
+    } else {
+      dist = b.dist[q];
+      drho = b.drho[q];
+    }
+    const Real F = kScale * KernelShape<K, D>::template dOverQBlend<Real>(dist * invH, qMax);
     const Real vg = F * vr;  // v_ab . grad W
     const Real muB = b.mu[q], muSum = muA + muB;
     // Eq. 5.4's mean: harmonic 4 mu_a mu_b / (mu_a + mu_b) or the sum; 0 for two inviscid fluids
@@ -132,8 +145,8 @@ PORESPH_BLOCK_CLONES void fluidFluidBlockTerms(FluidFluidBlock<Real, D>& b, cons
       b.divB[q] = wB * (Va * vg);
     }
     const Real dd = diffusionOn * b.same[q];  // densityDiffusionTerm, one material
-    b.diffA[q] = dd * (Real(2) * pb.V * b.drho[q] * F);
-    b.diffB[q] = dd * (Real(2) * Va * (-b.drho[q]) * F);
+    b.diffA[q] = dd * (Real(2) * pb.V * drho * F);
+    b.diffB[q] = dd * (Real(2) * Va * (-drho) * F);
     b.momA[q] = -(pb.V * r2 * F);
     b.momB[q] = -(Va * r2 * F);
   }
@@ -573,22 +586,24 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
           auto flush = [&](auto& blk) {
             using Real = typename std::decay_t<decltype(blk)>::real_type;
             const int nb = blk.n;
+            // (in double the distance and the density difference are the block's own, above)
+            constexpr bool kGatherDist = !std::is_same_v<Real, double>;
             for (int q = 0; q < nb; ++q) {
               const Index j = blk.j[q];
               double d2 = 0.0;
               for (int a = 0; a < D; ++a) {
                 const double ra = f.x[i * D + a] - f.x[j * D + a];
-                d2 += ra * ra;
+                if constexpr (kGatherDist) d2 += ra * ra;
                 blk.r[a][q] = static_cast<Real>(ra);
                 blk.vab[a][q] = static_cast<Real>(va[a] - f.v[j * D + a]);
               }
-              blk.dist[q] = static_cast<Real>(std::sqrt(d2));
+              if constexpr (kGatherDist) blk.dist[q] = static_cast<Real>(std::sqrt(d2));
               blk.rho[q] = static_cast<Real>(f.rho[j]);
               blk.p[q] = static_cast<Real>(f.p[j]);
               blk.pRho2[q] = static_cast<Real>(pRho2[j]);
               blk.V[q] = static_cast<Real>(vol[j]);
               blk.m[q] = static_cast<Real>(f.m[j]);
-              blk.drho[q] = static_cast<Real>(rhoa - f.rho[j]);
+              if constexpr (kGatherDist) blk.drho[q] = static_cast<Real>(rhoa - f.rho[j]);
             }
             // The neighbour's material: with one fluid material every receiving particle has it,
             // so both particles of a block pair are of i's material (the same values as the
