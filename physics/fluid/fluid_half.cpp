@@ -127,7 +127,14 @@ PORESPH_BLOCK_CLONES void fluidFluidBlockTerms(FluidFluidBlock<Real, D>& b, cons
     const Real muSafe = __builtin_isgreater(muSum, Real(0)) ? muSum : Real(1);
     const Real muBar = harmonicOn * (Real(4) * muA * muB / muSafe) + (Real(1) - harmonicOn) * muSum;
     const Real fab = Real(0.5) * (fa + b.visc[q]);
-    const FluidPairParticleT<Real> pb{b.m[q], b.rho[q], b.V[q], b.p[q], b.pRho2[q], b.c[q]};
+    // V_b = m_b / rho_b: in double here (vectorised, the quotient the gather took), in float
+    // from the gather (the double quotient rounded)
+    Real Vb;
+    if constexpr (kInBlock)
+      Vb = b.m[q] / b.rho[q];
+    else
+      Vb = b.V[q];
+    const FluidPairParticleT<Real> pb{b.m[q], b.rho[q], Vb, b.p[q], b.pRho2[q], b.c[q]};
     const FluidFluidCoefficients<Real> c =
         fluidFluidCoefficients<Real, kForm>(F, vr, r2, pa, pb, muBar, fab, pOff, alpha, h);
     for (int a = 0; a < D; ++a) {
@@ -601,7 +608,7 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
               blk.rho[q] = static_cast<Real>(f.rho[j]);
               blk.p[q] = static_cast<Real>(f.p[j]);
               blk.pRho2[q] = static_cast<Real>(pRho2[j]);
-              blk.V[q] = static_cast<Real>(vol[j]);
+              if constexpr (kGatherDist) blk.V[q] = static_cast<Real>(vol[j]);
               blk.m[q] = static_cast<Real>(f.m[j]);
               if constexpr (kGatherDist) blk.drho[q] = static_cast<Real>(rhoa - f.rho[j]);
             }
@@ -661,16 +668,17 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
             blk.j[blk.n++] = j;
             if (blk.n == kBlock) flush(blk);
           };
-          rows(i, [&](const Index j) {
-            const bool recB = j < n && receives(j);
-            if (!recA && !recB) return;
-            if (blockOn && recA && recB) {  // fluid-fluid, both sides: the vectorised block
-              if (floatPairs)
-                push(blockF, j);
-              else
-                push(blockD, j);
-              return;
-            }
+          // The fluid side of i's fluid-wall pairs, the same for each of them.
+          FluidPairSide<D> sideA;
+          if (recA) {
+            sideA.m = ma;
+            sideA.rho = rhoa;
+            sideA.p = pa;
+            sideA.props = mA;
+            sideA.v = va;
+          }
+          // Every pair the block does not take (scalar, double).
+          auto scalarPair = [&](const Index j, const bool recB) {
             Vec<D> r;
             for (int a = 0; a < D; ++a) r[a] = f.x[i * D + a] - f.x[j * D + a];
             const double F = K.F(r.norm());
@@ -702,14 +710,8 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
             const bool fluidB = f.ph[j] == kPhaseFluid, wallB = f.ph[j] == kPhaseWall;
             // Fluid-wall pairs: the shared pair terms, for the fluid side only (walls are fixed).
             if (recA && wallB) {
-              FluidPairSide<D> sa;
-              sa.m = ma;
-              sa.rho = rhoa;
-              sa.p = pa;
-              sa.props = mA;
-              sa.v = va;
               const FluidPairResult<D> tr =
-                  fluidBoundaryPair<D>(r, F, sa, wallPairSide<D>(f, j, vol, wallRho, vb), pairSettings);
+                  fluidBoundaryPair<D>(r, F, sideA, wallPairSide<D>(f, j, vol, wallRho, vb), pairSettings);
               accA += tr.pressure;
               accA += fa * tr.viscous;
               accA += tr.artificial;
@@ -779,7 +781,30 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
               for (int a = 0; a < D; ++a) tb[a] += fB[a];
               tb[kDiv] += (2.0 - wcA) * continuityTerm(form, rhob, ma, Va, vabGradW);
             }
-          });
+          };
+          // The row, with the choice of the block (and of its precision) taken once per row
+          // instead of per entry (issue 17, docs/performance.md "Instruction counts, case A"):
+          // the same pairs in the same order as one loop with the tests inside.
+          if (blockOn && recA) {  // fluid-fluid pairs of two receiving particles: the block
+            auto blockRow = [&](auto& blk) {
+              rows(i, [&](const Index j) {
+                if (j < n && receives(j))
+                  push(blk, j);
+                else
+                  scalarPair(j, false);
+              });
+            };
+            if (floatPairs)
+              blockRow(blockF);
+            else
+              blockRow(blockD);
+          } else {
+            rows(i, [&](const Index j) {
+              const bool recB = j < n && receives(j);
+              if (!recA && !recB) return;
+              scalarPair(j, recB);
+            });
+          }
           if (blockF.n > 0) flush(blockF);
           if (blockD.n > 0) flush(blockD);
           if (recA) {
