@@ -88,6 +88,11 @@ struct FluidFluidRun {
 #else
 #define PORESPH_BLOCK_CLONES
 #endif
+#if defined(__GNUC__) && !defined(__clang__)
+#define PORESPH_FLATTEN __attribute__((flatten))
+#else
+#define PORESPH_FLATTEN
+#endif
 template <class Real, int D, KernelType K, FluidPressureForm kForm, bool kMass>
 PORESPH_BLOCK_CLONES void fluidFluidBlockTerms(FluidFluidBlock<Real, D>& b, const FluidFluidRow& row,
                           const FluidFluidRun& run) {
@@ -677,8 +682,11 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
             sideA.props = mA;
             sideA.v = va;
           }
-          // Every pair the block does not take (scalar, double).
-          auto scalarPair = [&](const Index j, const bool recB) {
+          // Every pair the block does not take (scalar, double). Flattened: the fluid-wall pair
+          // terms (fluidBoundaryPair, which GCC 12 called out of line with its 80-byte result
+          // through memory) are inlined here; the same arithmetic (baseline x86-64: no FMA to
+          // contract into), so the same bits.
+          auto scalarPair = [&](const Index j, const bool recB) PORESPH_FLATTEN {
             Vec<D> r;
             for (int a = 0; a < D; ++a) r[a] = f.x[i * D + a] - f.x[j * D + a];
             const double F = K.F(r.norm());
