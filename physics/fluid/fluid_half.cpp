@@ -88,6 +88,11 @@ struct FluidFluidRun {
 #else
 #define PORESPH_BLOCK_CLONES
 #endif
+#if defined(__GNUC__) && !defined(__clang__)
+#define PORESPH_FLATTEN __attribute__((flatten))
+#else
+#define PORESPH_FLATTEN
+#endif
 template <class Real, int D, KernelType K, FluidPressureForm kForm, bool kMass>
 PORESPH_BLOCK_CLONES void fluidFluidBlockTerms(FluidFluidBlock<Real, D>& b, const FluidFluidRow& row,
                           const FluidFluidRun& run) {
@@ -107,14 +112,34 @@ PORESPH_BLOCK_CLONES void fluidFluidBlockTerms(FluidFluidBlock<Real, D>& b, cons
       r2 += b.r[a][q] * b.r[a][q];
       vr += b.vab[a][q] * b.r[a][q];
     }
-    const Real F = kScale * KernelShape<K, D>::template dOverQBlend<Real>(b.dist[q] * invH, qMax);
+    // In double the distance and the density difference are taken here, vectorised (the sqrt
+    // without errno: this file is compiled with -fno-math-errno, CMakeLists.txt), from the same
+    // doubles the gather computed them from, so with the same bits; in float they come from
+    // the gather, in double (the float path's rounding as before).
+    constexpr bool kInBlock = std::is_same_v<Real, double>;
+    Real dist, drho;
+    if constexpr (kInBlock) {
+      dist = std::sqrt(r2);
+      drho = rhoa - b.rho[q];
+    } else {
+      dist = b.dist[q];
+      drho = b.drho[q];
+    }
+    const Real F = kScale * KernelShape<K, D>::template dOverQBlend<Real>(dist * invH, qMax);
     const Real vg = F * vr;  // v_ab . grad W
     const Real muB = b.mu[q], muSum = muA + muB;
     // Eq. 5.4's mean: harmonic 4 mu_a mu_b / (mu_a + mu_b) or the sum; 0 for two inviscid fluids
     const Real muSafe = __builtin_isgreater(muSum, Real(0)) ? muSum : Real(1);
     const Real muBar = harmonicOn * (Real(4) * muA * muB / muSafe) + (Real(1) - harmonicOn) * muSum;
     const Real fab = Real(0.5) * (fa + b.visc[q]);
-    const FluidPairParticleT<Real> pb{b.m[q], b.rho[q], b.V[q], b.p[q], b.pRho2[q], b.c[q]};
+    // V_b = m_b / rho_b: in double here (vectorised, the quotient the gather took), in float
+    // from the gather (the double quotient rounded)
+    Real Vb;
+    if constexpr (kInBlock)
+      Vb = b.m[q] / b.rho[q];
+    else
+      Vb = b.V[q];
+    const FluidPairParticleT<Real> pb{b.m[q], b.rho[q], Vb, b.p[q], b.pRho2[q], b.c[q]};
     const FluidFluidCoefficients<Real> c =
         fluidFluidCoefficients<Real, kForm>(F, vr, r2, pa, pb, muBar, fab, pOff, alpha, h);
     for (int a = 0; a < D; ++a) {
@@ -132,8 +157,8 @@ PORESPH_BLOCK_CLONES void fluidFluidBlockTerms(FluidFluidBlock<Real, D>& b, cons
       b.divB[q] = wB * (Va * vg);
     }
     const Real dd = diffusionOn * b.same[q];  // densityDiffusionTerm, one material
-    b.diffA[q] = dd * (Real(2) * pb.V * b.drho[q] * F);
-    b.diffB[q] = dd * (Real(2) * Va * (-b.drho[q]) * F);
+    b.diffA[q] = dd * (Real(2) * pb.V * drho * F);
+    b.diffB[q] = dd * (Real(2) * Va * (-drho) * F);
     b.momA[q] = -(pb.V * r2 * F);
     b.momB[q] = -(Va * r2 * F);
   }
@@ -486,8 +511,12 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
   auto receives = [recv](Index i) { return recv[i] != 0; };
   // One fluid material: every receiving particle is of it (the block's material columns are then
   // constants, above).
-  int fluidMaterials = 0;
-  for (int k = 0; k < nm; ++k) fluidMaterials += md[k].fluid ? 1 : 0;
+  int fluidMaterials = 0, theFluid = 0;
+  for (int k = 0; k < nm; ++k)
+    if (md[k].fluid) {
+      ++fluidMaterials;
+      theFluid = k;
+    }
   const bool oneFluid = fluidMaterials == 1;
   auto valid = [&](int id) { return id >= 0 && id < nm; };
   // Rows of boundary particles without a fluid neighbour (the constitutive stage's flags, a
@@ -518,6 +547,24 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
     {
       FluidFluidBlock<double, D> blockD;
       FluidFluidBlock<float, D> blockF;
+      // The block's columns that are the same for every pair of the run, filled once per thread
+      // instead of per block (issue 17, docs/performance.md "Instruction counts, case A"): the
+      // material's sound speed, viscosity and same-material flag with one fluid material, the
+      // viscous factor without the factors, the continuity weight without the acoustic interface.
+      auto fillConstantColumns = [&](auto& blk) {
+        using Real = typename std::decay_t<decltype(blk)>::real_type;
+        for (int q = 0; q < kBlock; ++q) {
+          if (oneFluid) {
+            blk.c[q] = static_cast<Real>(md[theFluid].soundSpeed);
+            blk.mu[q] = static_cast<Real>(md[theFluid].viscosity);
+            blk.same[q] = Real(1);
+          }
+          if (!f.visc) blk.visc[q] = Real(1);
+          if (!acousticInterface_) blk.wc[q] = Real(1);
+        }
+      };
+      fillConstantColumns(blockD);
+      fillConstantColumns(blockF);
       scatter_.forBlocks([&](int t) {
         scatter_.zero(t, own);
         for (Index i = scatter_.begin(t); i < scatter_.end(t); ++i) {
@@ -551,34 +598,29 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
           auto flush = [&](auto& blk) {
             using Real = typename std::decay_t<decltype(blk)>::real_type;
             const int nb = blk.n;
+            // (in double the distance and the density difference are the block's own, above)
+            constexpr bool kGatherDist = !std::is_same_v<Real, double>;
             for (int q = 0; q < nb; ++q) {
               const Index j = blk.j[q];
               double d2 = 0.0;
               for (int a = 0; a < D; ++a) {
                 const double ra = f.x[i * D + a] - f.x[j * D + a];
-                d2 += ra * ra;
+                if constexpr (kGatherDist) d2 += ra * ra;
                 blk.r[a][q] = static_cast<Real>(ra);
                 blk.vab[a][q] = static_cast<Real>(va[a] - f.v[j * D + a]);
               }
-              blk.dist[q] = static_cast<Real>(std::sqrt(d2));
+              if constexpr (kGatherDist) blk.dist[q] = static_cast<Real>(std::sqrt(d2));
               blk.rho[q] = static_cast<Real>(f.rho[j]);
               blk.p[q] = static_cast<Real>(f.p[j]);
               blk.pRho2[q] = static_cast<Real>(pRho2[j]);
-              blk.V[q] = static_cast<Real>(vol[j]);
+              if constexpr (kGatherDist) blk.V[q] = static_cast<Real>(vol[j]);
               blk.m[q] = static_cast<Real>(f.m[j]);
-              blk.drho[q] = static_cast<Real>(rhoa - f.rho[j]);
+              if constexpr (kGatherDist) blk.drho[q] = static_cast<Real>(rhoa - f.rho[j]);
             }
             // The neighbour's material: with one fluid material every receiving particle has it,
             // so both particles of a block pair are of i's material (the same values as the
-            // per-pair lookup).
-            if (oneFluid) {
-              const Real cA = static_cast<Real>(mA->soundSpeed), muA = static_cast<Real>(mA->viscosity);
-              for (int q = 0; q < nb; ++q) {
-                blk.c[q] = cA;
-                blk.mu[q] = muA;
-                blk.same[q] = Real(1);
-              }
-            } else {
+            // per-pair lookup): those columns were filled once per thread (fillConstantColumns).
+            if (!oneFluid) {
               for (int q = 0; q < nb; ++q) {
                 const int mtj = f.mt[blk.j[q]];
                 const MaterialData& mB = md[mtj];
@@ -589,15 +631,12 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
             }
             // The optional columns in loops of their own, the option tested once per block (the
             // same values as a test per pair; issue 17, docs/performance.md "Instruction counts").
+            // (without them the columns hold 1, filled once per thread)
             if (const double* fv = f.visc)
               for (int q = 0; q < nb; ++q) blk.visc[q] = static_cast<Real>(fv[blk.j[q]]);
-            else
-              for (int q = 0; q < nb; ++q) blk.visc[q] = Real(1);
             if (acousticInterface_)
               for (int q = 0; q < nb; ++q)
                 blk.wc[q] = static_cast<Real>(ifaceWeight_[static_cast<size_t>(ida * nm + f.mt[blk.j[q]])]);
-            else
-              for (int q = 0; q < nb; ++q) blk.wc[q] = Real(1);
             constexpr auto kSym = FluidPressureForm::Symmetric, kHu = FluidPressureForm::HuAdams,
                            kVol = FluidPressureForm::Volume;
             if (pForm == kHu)
@@ -623,7 +662,7 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
                 if constexpr (decltype(withMoment)::value) tb[kMom] += static_cast<double>(blk.momB[q]);
                 divA += static_cast<double>(blk.divA[q]);
                 diffA += static_cast<double>(blk.diffA[q]);
-                momA += static_cast<double>(blk.momA[q]);
+                if constexpr (decltype(withMoment)::value) momA += static_cast<double>(blk.momA[q]);
               }
             };
             if (momOn) scatterBlock(std::true_type{});
@@ -634,16 +673,20 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
             blk.j[blk.n++] = j;
             if (blk.n == kBlock) flush(blk);
           };
-          rows(i, [&](const Index j) {
-            const bool recB = j < n && receives(j);
-            if (!recA && !recB) return;
-            if (blockOn && recA && recB) {  // fluid-fluid, both sides: the vectorised block
-              if (floatPairs)
-                push(blockF, j);
-              else
-                push(blockD, j);
-              return;
-            }
+          // The fluid side of i's fluid-wall pairs, the same for each of them.
+          FluidPairSide<D> sideA;
+          if (recA) {
+            sideA.m = ma;
+            sideA.rho = rhoa;
+            sideA.p = pa;
+            sideA.props = mA;
+            sideA.v = va;
+          }
+          // Every pair the block does not take (scalar, double). Flattened: the fluid-wall pair
+          // terms (fluidBoundaryPair, which GCC 12 called out of line with its 80-byte result
+          // through memory) are inlined here; the same arithmetic (baseline x86-64: no FMA to
+          // contract into), so the same bits.
+          auto scalarPair = [&](const Index j, const bool recB) PORESPH_FLATTEN {
             Vec<D> r;
             for (int a = 0; a < D; ++a) r[a] = f.x[i * D + a] - f.x[j * D + a];
             const double F = K.F(r.norm());
@@ -675,14 +718,8 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
             const bool fluidB = f.ph[j] == kPhaseFluid, wallB = f.ph[j] == kPhaseWall;
             // Fluid-wall pairs: the shared pair terms, for the fluid side only (walls are fixed).
             if (recA && wallB) {
-              FluidPairSide<D> sa;
-              sa.m = ma;
-              sa.rho = rhoa;
-              sa.p = pa;
-              sa.props = mA;
-              sa.v = va;
               const FluidPairResult<D> tr =
-                  fluidBoundaryPair<D>(r, F, sa, wallPairSide<D>(f, j, vol, wallRho, vb), pairSettings);
+                  fluidBoundaryPair<D>(r, F, sideA, wallPairSide<D>(f, j, vol, wallRho, vb), pairSettings);
               accA += tr.pressure;
               accA += fa * tr.viscous;
               accA += tr.artificial;
@@ -752,7 +789,30 @@ void FluidModule::forceLoopHalf(Simulation& sim, const Fields& f, double uShift,
               for (int a = 0; a < D; ++a) tb[a] += fB[a];
               tb[kDiv] += (2.0 - wcA) * continuityTerm(form, rhob, ma, Va, vabGradW);
             }
-          });
+          };
+          // The row, with the choice of the block (and of its precision) taken once per row
+          // instead of per entry (issue 17, docs/performance.md "Instruction counts, case A"):
+          // the same pairs in the same order as one loop with the tests inside.
+          if (blockOn && recA) {  // fluid-fluid pairs of two receiving particles: the block
+            auto blockRow = [&](auto& blk) {
+              rows(i, [&](const Index j) {
+                if (j < n && receives(j))
+                  push(blk, j);
+                else
+                  scalarPair(j, false);
+              });
+            };
+            if (floatPairs)
+              blockRow(blockF);
+            else
+              blockRow(blockD);
+          } else {
+            rows(i, [&](const Index j) {
+              const bool recB = j < n && receives(j);
+              if (!recA && !recB) return;
+              scalarPair(j, recB);
+            });
+          }
           if (blockF.n > 0) flush(blockF);
           if (blockD.n > 0) flush(blockD);
           if (recA) {
