@@ -15,6 +15,7 @@
 
 #include "libcore/phases.hpp"
 #include "physics/fluid/fluid_setup.hpp"
+#include "tests/support/fluid_channel_2d.hpp"
 #include "tests/support/validation_record.hpp"
 
 namespace poresph::test {
@@ -44,20 +45,13 @@ struct Entry {
     thetaDeg = env("FLUID_THETA", thetaDeg);  // manual studies of other angles (issue 14)
     dx = env("FLUID_DX", dx);  // manual resolution studies: same geometry, w = 1 mm / dx (issue 14)
     namespace fs = poresph::fluidsetup;
-    sim.spacing = dx;
-    sim.kernel = Kernel(KernelType::QuinticSpline, 2, dx);
-    const double t = 3 * dx;
-    sim.domain.lo = {0, -t, 0};
-    sim.domain.hi = {Lx, H + t, 0};
-    sim.domain.periodic = {true, false, false};
     char buf[300];
-    std::snprintf(buf, sizeof buf, "{density: %g, sound_speed: %g, viscosity: %g, colour: 1, background_pressure: %g}", rho, c, mu, pb);
-    const int water = fs::addMaterial(sim, "water", "fluid", buf);
-    std::snprintf(buf, sizeof buf, "{density: %.9g, sound_speed: %.9g, viscosity: %.9g, colour: -1, background_pressure: %g}",
-                  gasRho, gasC, gasMu, pb);
-    gas = fs::addMaterial(sim, "gas", "fluid", buf);
-    std::snprintf(buf, sizeof buf, "{density: 1000, contact_angle: %g}", thetaDeg);
-    const int wall = fs::addMaterial(sim, "wall", "wall", buf);
+    const test::ChannelMaterials ids =
+        test::setUpChannel2D(sim, dx, Lx, H, {rho, c, mu}, {gasRho, gasC, gasMu}, pb, thetaDeg);
+    const int water = ids.water;
+    gas = ids.gas;
+    const int wall = ids.wall;
+    const double t = 3 * dx;  // the walls' thickness (setUpChannel2D)
     // FLUID_EXTRA: extra fluid keys (", key: value") for manual studies (issue 14)
     std::snprintf(buf, sizeof buf, "{surface_tension: %g, gravity: [%.9g, 0]%s%s}", gamma, forceRatio * threshold(),
                   keys.c_str(), std::getenv("FLUID_EXTRA") ? std::getenv("FLUID_EXTRA") : "");

@@ -20,6 +20,7 @@
 
 #include "libcore/phases.hpp"
 #include "physics/fluid/fluid_setup.hpp"
+#include "tests/support/fluid_channel_2d.hpp"
 #include "tests/support/validation_record.hpp"
 
 using namespace poresph;
@@ -42,19 +43,13 @@ struct Throats {
     return 2.0 * gamma * std::cos(thetaDeg * kPi / 180.0) * (1.0 / w - 1.0 / H) / (rho * Lx);
   }
   explicit Throats(double force) {
-    sim.spacing = dx;
-    sim.kernel = Kernel(KernelType::QuinticSpline, 2, dx);
-    const double t = 3 * dx;
-    sim.domain.lo = {0, -t, 0};
-    sim.domain.hi = {Lx, H + t, 0};
-    sim.domain.periodic = {true, false, false};
     char buf[300];
-    std::snprintf(buf, sizeof buf, "{density: %g, sound_speed: %g, viscosity: %g, colour: 1, background_pressure: %g}", rho, c, mu, pb);
-    const int water = fs::addMaterial(sim, "water", "fluid", buf);
-    std::snprintf(buf, sizeof buf, "{density: %g, sound_speed: %g, viscosity: %g, colour: -1, background_pressure: %g}", rho, c, mu, pb);
-    gas = fs::addMaterial(sim, "gas", "fluid", buf);
-    std::snprintf(buf, sizeof buf, "{density: 1000, contact_angle: %g}", thetaDeg);
-    const int wall = fs::addMaterial(sim, "wall", "wall", buf);
+    const test::ChannelMaterials ids =
+        test::setUpChannel2D(sim, dx, Lx, H, {rho, c, mu}, {rho, c, mu}, pb, thetaDeg);
+    const int water = ids.water;
+    gas = ids.gas;
+    const int wall = ids.wall;
+    const double t = 3 * dx;  // the walls' thickness (setUpChannel2D)
     std::snprintf(buf, sizeof buf, "{surface_tension: %g, gravity: [%.9g, 0]}", gamma, force);
     fluid = fs::addFluidModule(sim, buf);
     const double a0 = yn0, a1 = yn1, b0 = yw0, b1 = yw1, x0 = xs, x1 = xs + Ls;

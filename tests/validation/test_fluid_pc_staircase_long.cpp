@@ -48,6 +48,7 @@
 
 #include "libcore/phases.hpp"
 #include "physics/fluid/fluid_setup.hpp"
+#include "tests/support/fluid_channel_2d.hpp"
 #include "tests/support/validation_record.hpp"
 
 using namespace poresph;
@@ -106,19 +107,13 @@ struct Staircase {
     xs = std::round((1.0 * w + gasLen) / dx) * dx;
     xb = xs + Ls;         // barrier [xb, xb + 3 dx)
     Lx = 8 * w;
-    sim.spacing = dx;
-    sim.kernel = Kernel(KernelType::QuinticSpline, 2, dx);
-    const double t = 3 * dx;
-    sim.domain.lo = {0, -t, 0};
-    sim.domain.hi = {Lx, H + t, 0};
-    sim.domain.periodic = {true, false, false};
     char buf[500];
-    std::snprintf(buf, sizeof buf, "{density: %g, sound_speed: %g, viscosity: %g, colour: 1, background_pressure: %g}", rho, c, mu, pb);
-    const int water = fs::addMaterial(sim, "water", "fluid", buf);
-    std::snprintf(buf, sizeof buf, "{density: %g, sound_speed: %g, viscosity: %g, colour: -1, background_pressure: %g}", rho, c, mu, pb);
-    gas = fs::addMaterial(sim, "gas", "fluid", buf);
-    std::snprintf(buf, sizeof buf, "{density: 1000, contact_angle: %g}", thetaDeg);
-    const int wall = fs::addMaterial(sim, "wall", "wall", buf);
+    const test::ChannelMaterials ids =
+        test::setUpChannel2D(sim, dx, Lx, H, {rho, c, mu}, {rho, c, mu}, pb, thetaDeg);
+    const int water = ids.water;
+    gas = ids.gas;
+    const int wall = ids.wall;
+    const double t = 3 * dx;  // the walls' thickness (setUpChannel2D)
     // the drive: f0 = 0.7 x the 3w threshold's, ramped with f0 exp((t - tSettle) / tau) to
     // f1 = 1.25 x the w threshold's (gravity_schedule, exponential between its points)
     f0 = 0.7 * forceFor(pcSlit(2));

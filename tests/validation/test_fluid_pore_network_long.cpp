@@ -55,6 +55,7 @@
 
 #include "libcore/phases.hpp"
 #include "physics/fluid/fluid_setup.hpp"
+#include "tests/support/fluid_channel_2d.hpp"
 #include "tests/support/validation_record.hpp"
 
 using namespace poresph;
@@ -260,19 +261,13 @@ struct Network {
         for (int x = t.box.x0; x < t.box.x1; ++x) region[static_cast<size_t>(y * kNx + x)] = 100 + t.id;
     H = kNy * dx;
     Lx = (E + kNx) * dx;
-    sim.spacing = dx;
-    sim.kernel = Kernel(KernelType::QuinticSpline, 2, dx);
-    const double t = 3 * dx;
-    sim.domain.lo = {0, -t, 0};
-    sim.domain.hi = {Lx, H + t, 0};
-    sim.domain.periodic = {true, false, false};
     char buf[600];
-    std::snprintf(buf, sizeof buf, "{density: %g, sound_speed: %g, viscosity: %g, colour: 1, background_pressure: %g}", rho, c, mu, pb);
-    const int water = fs::addMaterial(sim, "water", "fluid", buf);
-    std::snprintf(buf, sizeof buf, "{density: %g, sound_speed: %g, viscosity: %g, colour: -1, background_pressure: %g}", rho, c, mu, pb);
-    gas = fs::addMaterial(sim, "gas", "fluid", buf);
-    std::snprintf(buf, sizeof buf, "{density: 1000, contact_angle: %g}", thetaDeg);
-    wallMat = fs::addMaterial(sim, "wall", "wall", buf);
+    const test::ChannelMaterials ids =
+        test::setUpChannel2D(sim, dx, Lx, H, {rho, c, mu}, {rho, c, mu}, pb, thetaDeg);
+    const int water = ids.water;
+    gas = ids.gas;
+    wallMat = ids.wall;
+    const double t = 3 * dx;  // the walls' thickness (setUpChannel2D)
     // the drive: Pc 90 Pa for 30 ms (above the entry of every throat, below every exit but the
     // 10-12-voxel ones; of those only throat 5 is open to the inlet), then exponential to 1.25 x the exit pressure of the 9-voxel throat (the highest
     // IP passes to breakthrough), 139 Pa, below the 7-voxel exit (143 Pa). Without surface tension
