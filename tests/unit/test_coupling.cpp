@@ -45,6 +45,14 @@ std::string message(const std::function<void()>& f) {
   return "";
 }
 
+// A disturbed state: random-ish fluid densities (+-1 % of 1000 kg/m^3) so that the pressure varies.
+void disturbFluidDensities(Simulation& sim) {
+  ParticleStore& st = sim.store;
+  for (Index i = 0; i < st.realCount(); ++i)
+    if (st.data(st.phase())[i] == kPhaseFluid)
+      st.data(st.density())[i] = 1000.0 * (1.0 + 0.01 * std::sin(12.9898 * static_cast<double>(i)));
+}
+
 }  // namespace
 
 TEST(PairClasses, CouplingIsAddedWhereFluidAndSolidMeetOnly) {
@@ -204,11 +212,8 @@ TEST(PairClasses, CoupledForcesSumToZero) {
             "fluid: {artificial_viscosity: 0.1}\n"),
       "sum.yaml");
   Simulation& sim = *s.sim;
-  // A disturbed state: random-ish densities so that the pressure varies.
+  disturbFluidDensities(sim);
   ParticleStore& st = sim.store;
-  for (Index i = 0; i < st.realCount(); ++i)
-    if (st.data(st.phase())[i] == kPhaseFluid)
-      st.data(st.density())[i] = 1000.0 * (1.0 + 0.01 * std::sin(12.9898 * i));
   sim.evaluateRates();
   Vec<2> sum = Vec<2>::Zero(), solid = Vec<2>::Zero();
   double scale = 0.0;
@@ -368,10 +373,8 @@ TEST(PairClasses, SolidGaugeLoadsTheSolidWithTheGaugePressureOnly) {
               "fluid: {pressure_reference: " + reference + "}\n"),
         "gauge.yaml");
     Simulation& sim = *s.sim;
+    disturbFluidDensities(sim);
     ParticleStore& st = sim.store;
-    for (Index i = 0; i < st.realCount(); ++i)
-      if (st.data(st.phase())[i] == kPhaseFluid)
-        st.data(st.density())[i] = 1000.0 * (1.0 + 0.01 * std::sin(12.9898 * i));
     sim.evaluateRates();
     std::vector<std::pair<int, Vec<2>>> a;  // phase, acceleration
     for (Index i = 0; i < st.realCount(); ++i)
