@@ -413,6 +413,9 @@ std::string DrainageModule::describe(const Simulation& sim) const {
     << "              dP = " << pressureDrop_ << " Pa: body force " << force_
     << " m/s^2 on the " << inv.name << " in the reservoirs"
     << (rampTime_ > 0.0 ? ", ramped over " + std::to_string(rampTime_) + " s" : "") << "\n";
+  if (stopAfterPercolation_ >= 0.0)
+    o << "              the run ends " << stopAfterPercolation_
+      << " s after percolation (stop_after_percolation), or at end_time\n";
   if (inv.fluid.rho0 > 0.0 && def.fluid.viscosity > 0.0)
     o << "              density ratio " << def.name << "/" << inv.name << " = "
       << def.fluid.rho0 / inv.fluid.rho0 << ", viscosity ratio M = mu_" << inv.name << "/mu_"

@@ -308,6 +308,9 @@ TEST(Drainage, StopAfterPercolationEndsTheRun) {
   Scene none = loadSceneText(gasChannel(fast + "}"), "drainage.yaml");
   EXPECT_EQ(sceneSignature(other), sceneSignature(again));
   EXPECT_EQ(sceneSignature(none), sceneSignature(again));
+  EXPECT_NE(drainage(again).describe(*again.sim).find("ends 0.0002 s after percolation"), std::string::npos)
+      << drainage(again).describe(*again.sim);
+  EXPECT_EQ(drainage(none).describe(*none.sim).find("after percolation"), std::string::npos);
   EXPECT_NE(message([&] { loadSceneText(scene(fast + ", stop_after_percolation: -1}"), "d.yaml"); })
                 .find("drainage.stop_after_percolation"),
             std::string::npos);
