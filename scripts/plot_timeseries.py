@@ -7,7 +7,9 @@
 One panel per column, one line per file (a sweep passes every case). Columns that a file lacks
 are skipped for that file; a column no file has is an error naming the columns there are.
 Default columns: the drainage columns (porosity, gas saturation, damaged fraction) where present,
-else kinetic_energy. Needs matplotlib (Debian: python3-matplotlib; scripts/install-deps.sh).
+else kinetic_energy. A column named *_time (percolation time, flow-path time) holds -1 until the
+event happens: those rows are left out of its panel instead of drawn as a jump from -1 s.
+Needs matplotlib (Debian: python3-matplotlib; scripts/install-deps.sh).
 """
 import argparse
 import csv
@@ -62,7 +64,10 @@ def main(argv=None):
     for ax, col in zip(axes[:, 0], columns):
         for (header, cols), label in zip(runs, labels):
             if col in cols and a.x in cols:
-                ax.plot(cols[a.x], cols[col], marker="." if len(cols[col]) < 30 else None, label=label)
+                ys = cols[col]
+                if col.endswith("_time"):  # -1 = "not yet" (docs/drainage.md), not a time
+                    ys = [y if y >= 0 else math.nan for y in ys]
+                ax.plot(cols[a.x], ys, marker="." if len(cols[col]) < 30 else None, label=label)
         ax.set_ylabel(col.replace("_", " "))
         ax.grid(True, alpha=0.3)
     axes[-1, 0].set_xlabel(a.x + (" (s)" if a.x == "time" else ""))
