@@ -1,19 +1,20 @@
 // Validation (issue 16, thesis Sec. 5.4): the confining stress controls the damage of drainage
-// on the main job's crop. samples/drainage_ketton_3d_sweep.yaml (the 16^3 Ketton crop of the
-// main job, spectral split and stress measure, dP = 300 Pa, y plates sealed 1 dx short of the
-// sample's ends) run at 160 / 120 / 80 Pa (sigma / dP = 0.53 / 0.40 / 0.27: the thesis' 8 and
-// 6 MPa at its dP = 15 MPa, and a 4 MPa analogue; sigma / f_t = 1.03 / 0.77 / 0.51 with f_t =
-// E eps_t0 = 156 Pa), to 9.5 ms (breakthrough ~7.95 ms + 1.5 ms). The thesis (Sec. 5.4, Figs.
-// 5.9 and 5.12): lower confinement gives an earlier percolation, a larger porosity increase and
-// more damage. Measured (docs/drainage.md, "Confining-stress sweep of the crop with sealed plate
-// ends"): the damage follows the thesis (1.00 / 0.64 / 0.28 % at breakthrough at 80 / 120 / 160
-// Pa, 36 / 23 / 10 particles at 8 ms, 80-100 % of them within 1.5 dx of a pore), but the plates
-// hold at all three (|displacement| < 2 um), the crop does not dilate, and breakthrough (7.95 /
-// 7.95 / 7.96 ms) and porosity (0.1379 / 0.1381 / 0.1378) are set by the fluids: recorded, not
-// ordered. Asserted: every case breaks through with both plates within 0.1 dx of their start
-// (below ~80 Pa the front plate lifts off, 1.2 dx at 40 Pa, and the run measures the gap, not the
-// sample), and the damaged fraction at 6 ms and at breakthrough grows as the stress falls.
-// Long test (three runs of ~2,000 steps, ~3 min CPU each): tests/long-tests.txt.
+// on the main job's crop. samples/drainage_ketton_3d_sweep.yaml (the main job: 16^3 Ketton crop,
+// spectral split and stress measure, dP = 300 Pa, gamma 0.002, wall_push_only, y plates sealed 1 dx
+// short of the sample's ends; every load ramp over 8 ms) run at 160 / 120 / 80 Pa (sigma / dP =
+// 0.53 / 0.40 / 0.27: the thesis' 8 and 6 MPa at its dP = 15 MPa, and a 4 MPa analogue; sigma / f_t
+// = 1.03 / 0.77 / 0.51 with f_t = E eps_t0 = 156 Pa) to 1.5 ms after breakthrough. The thesis
+// (Sec. 5.4, Figs. 5.9 and 5.12): lower confinement gives an earlier percolation, a larger
+// porosity increase and more damage. Measured (docs/drainage.md, "The sweep with slow load ramps
+// and wall_push_only", 2026-11-28): breakthrough 10.620 / 10.566 / 10.511 ms and damaged 0.28 /
+// 0.62 / 0.91 % at breakthrough at 160 / 120 / 80 Pa, no damage before 6.5 ms (the damage comes
+// with the gas in the inlet-side pore, not with the load ramp), 87-100 % of it within 1.5 dx of a
+// pore; the plates hold (< 2 um) and the crop compacts (porosity 0.1360-0.1362 at 10.5 ms from
+// 0.1396): porosity recorded, not ordered. Asserted: every case breaks through with both plates
+// within 0.1 dx of their start (below ~80 Pa the front plate lifts off, 1.2 dx at 40 Pa), the
+// breakthrough comes earlier and the damaged fraction at 9 ms and at breakthrough is larger as
+// the stress falls, and the damaged fraction at 6 ms is under a tenth of that at breakthrough.
+// Long test (three runs of ~2,520 steps, ~4 min CPU each): tests/long-tests.txt.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -36,7 +37,7 @@ namespace fsys = std::filesystem;
 namespace {
 
 struct Case {
-  double stress = 0.0, percolation = -1.0, porosityChange = NAN, damaged = NAN, damaged6 = NAN;
+  double stress = 0.0, percolation = -1.0, porosityChange = NAN, damaged = NAN, damaged6 = NAN, damaged9 = NAN;
   double gasSaturation = NAN, front = NAN, back = NAN, wall = 0.0;
 };
 
@@ -71,6 +72,7 @@ Case run(double stress) {
   c.wall = clock.seconds();
   c.percolation = s.rows.back().at("drainage_percolation_time");
   c.damaged6 = s.interpolated("drainage_damaged_fraction", 0.006);
+  c.damaged9 = s.interpolated("drainage_damaged_fraction", 0.009);
   if (c.percolation > 0.0) {
     c.porosityChange = s.interpolated("drainage_porosity", c.percolation) - s.rows.front().at("drainage_porosity");
     c.damaged = s.interpolated("drainage_damaged_fraction", c.percolation);
@@ -83,7 +85,7 @@ Case run(double stress) {
 
 }  // namespace
 
-TEST(DrainageConfinement3D, CropLowerStressDamagesMoreWhilePlatesHold) {
+TEST(DrainageConfinement3D, CropLowerStressBreaksThroughEarlierAndDamagesMoreWhilePlatesHold) {
   std::vector<Case> cases;
   for (double s : {160.0, 120.0, 80.0}) cases.push_back(run(s));
   for (const Case& c : cases) {
@@ -93,10 +95,11 @@ TEST(DrainageConfinement3D, CropLowerStressDamagesMoreWhilePlatesHold) {
     rec.wallSeconds = c.wall;
     rec.reference = NAN;
     rec.reference_source = "thesis Sec. 5.4 trends (Figs. 5.9, 5.12)";
-    rec.tolerance = "recorded (measured flat: set by the fluids while the plates hold)";
+    rec.tolerance = "earlier as the stress falls";
     rec.quantity = "percolation time [s]";
     rec.measured = c.percolation;
     test::recordValidation(rec);
+    rec.tolerance = "recorded (measured flat: the crop compacts while the plates hold)";
     rec.quantity = "porosity change at breakthrough";
     rec.measured = c.porosityChange;
     test::recordValidation(rec);
@@ -104,6 +107,10 @@ TEST(DrainageConfinement3D, CropLowerStressDamagesMoreWhilePlatesHold) {
     rec.quantity = "damaged fraction (D > 0.5) at breakthrough";
     rec.measured = c.damaged;
     test::recordValidation(rec);
+    rec.quantity = "damaged fraction (D > 0.5) at 9 ms";
+    rec.measured = c.damaged9;
+    test::recordValidation(rec);
+    rec.tolerance = "under a tenth of the value at breakthrough (not a load-ramp transient)";
     rec.quantity = "damaged fraction (D > 0.5) at 6 ms";
     rec.measured = c.damaged6;
     test::recordValidation(rec);
@@ -120,9 +127,11 @@ TEST(DrainageConfinement3D, CropLowerStressDamagesMoreWhilePlatesHold) {
     ASSERT_GT(c.percolation, 0.0) << c.stress;
     EXPECT_LT(std::abs(c.front), 1e-5) << c.stress << " Pa: the front plate lifted off (m)";
     EXPECT_LT(std::abs(c.back), 1e-5) << c.stress << " Pa: the back plate lifted off (m)";
+    EXPECT_LT(c.damaged6, 0.1 * c.damaged) << c.stress << " Pa: damage set before the gas arrives";
   }
   for (size_t k = 1; k < cases.size(); ++k) {
-    EXPECT_GT(cases[k].damaged6, cases[k - 1].damaged6) << cases[k].stress;
+    EXPECT_LT(cases[k].percolation, cases[k - 1].percolation) << cases[k].stress;
+    EXPECT_GT(cases[k].damaged9, cases[k - 1].damaged9) << cases[k].stress;
     EXPECT_GT(cases[k].damaged, cases[k - 1].damaged) << cases[k].stress;
   }
 }
