@@ -114,8 +114,9 @@ class FluidModule : public Module {
   }
   /// Every loop has a symmetric form for a half list (fluid_half.cpp) except the surface
   /// tension's (colour gradient, curvature, CSF), which needs the full list.
-  bool supportsHalfNeighbourList() const override {  // CSF, light_mirror, wall_background_pressure, wall_push_only: full list
-    return gamma_ == 0.0 && !wallMirrorLight_ && !(wallBackground_ && pressureReference_) && !wallPushOnly_;
+  bool supportsHalfNeighbourList() const override {  // CSF, light_mirror, wall_background_pressure, wall_push_only, wall_overlap_pressure: full list
+    return gamma_ == 0.0 && !wallMirrorLight_ && !(wallBackground_ && pressureReference_) && !wallPushOnly_ &&
+           !wallOverlap_;
   }
   /// `pair_precision: float`: the fluid-fluid pairs of the symmetric force loop in single precision.
   bool floatPairs() const { return floatPairs_; }
@@ -242,6 +243,7 @@ class FluidModule : public Module {
   bool wallCsf_ = false;            // wall_pressure_surface_tension: a_s in the walls' extrapolation
   bool wallBackground_ = false;     // wall_background_pressure: p_b's force kept next to fixed walls
   bool wallPushOnly_ = false;       // wall_push_only: fluid-wall pairs with max(p - p_ref, 0)
+  bool wallOverlap_ = false;        // wall_overlap_pressure: K (S_b - 1/2)+ pushes a fluid particle off the walls
   double curvatureSmoothing_ = 2.0; // balanced form: curvature Shepard radius / h
   std::vector<double> kappaWork_;   // balanced form: smoothed curvature (surface_tension.cpp)
   double normalThreshold_ = 0.05;   // |n| h below which a normal is not used (5.8)
