@@ -10,6 +10,7 @@
 #include <cstring>
 #include <limits>
 #include <sstream>
+#include <type_traits>
 
 #include "libcore/phases.hpp"
 #include "libcore/simulation.hpp"
@@ -33,6 +34,33 @@ inline void wrapPairDisplacement(V& d, const double* period) {
     if (period[a] > 0.0 && std::abs(d[a]) >= 0.25 * period[a])
       d[a] -= period[a] * std::round(d[a] / period[a]);
 }
+
+// Minimum image of a pair separation along the periodic axes, the member loops' form of
+// "if (L > 0 && |d| >= L / 4) d -= L round(d / L)" (the family's minimumImage, and
+// wrapPairDisplacement on the TL displacements): the quarter periods are precomputed (0.25 L is
+// exact) and +inf on a non-periodic axis, so a member costs one comparison per axis and the period
+// is tested only where |d| passed it (an infinite d on a non-periodic axis). The same values bit
+// for bit. A plain value: the member loops copy it per particle, so GCC keeps it in registers
+// instead of reloading the periods through the closures at every member (docs/performance.md
+// "Solid pair loops (stop 33)").
+struct PairImage {
+  double period[3] = {0.0, 0.0, 0.0};
+  double quarter[3] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+                       std::numeric_limits<double>::infinity()};
+  PairImage(const double* L, int d) {
+    for (int a = 0; a < d; ++a)
+      if (L[a] > 0.0) {
+        period[a] = L[a];
+        quarter[a] = 0.25 * L[a];
+      }
+  }
+  template <int D>
+  void apply(Vec<D>& d) const {
+    for (int a = 0; a < D; ++a)
+      if (std::abs(d[a]) >= quarter[a] && period[a] > 0.0)
+        d[a] -= period[a] * std::round(d[a] / period[a]);
+  }
+};
 
 constexpr unsigned kInternal = kFieldCheckpoint;  // state that is neither output nor ghosted
 
@@ -1284,43 +1312,65 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
       double* fd = Q + static_cast<size_t>(n) * D * D;
       double* phi = s.data(hgEnergy_);
       const double* hgW = famHgW_.empty() ? nullptr : famHgW_.data();
-      W.withFixedType<D>([&](const auto K) {  // the kernel type fixed for the member loop
+      const PairImage image(L.data(), D);
+      // The member loop with the factor W0_ab / |X_ab|^2 stored (kStored: family_storage fast) or
+      // computed; the arrays and the image read into locals once per particle (the loop had
+      // reloaded them through the closures at every member). The same arithmetic as before.
+      auto pass = [&](const auto K, const auto kStored) {
 #pragma omp parallel for schedule(static) if (n > 512)
-      for (Index i = 0; i < n; ++i) {
-        const int k = slotOf(mat[i]);
-        if (k < 0) {
-          phi[i] = 0.0;
-          continue;
-        }
-        const Mat<D> Fi = Eigen::Map<const Mat<D>>(Fg + i * D * D);
-        const Vec<D> Xi = Eigen::Map<const Vec<D>>(X + i * D);
-        const Vec<D> xi = Eigen::Map<const Vec<D>>(x + i * D);
-        const double ki = hgK[i];
-        Mat<D> M = Mat<D>::Zero();
-        Vec<D> direct = Vec<D>::Zero();
-        double e2 = 0.0;
-        for (std::int64_t q = off[row[i]]; q < off[row[i] + 1]; ++q) {
-          const Index j = idx[fam[q]];
-          const double kab = hourglassPairStiffness(ki, hgK[j]);
-          if (kab == 0.0) continue;
-          const Vec<D> Xji = minimumImage(Vec<D>(Eigen::Map<const Vec<D>>(X + j * D) - Xi));
-          const Vec<D> xji = minimumImage(Vec<D>(Eigen::Map<const Vec<D>>(x + j * D) - xi));
-          double c;
-          if (hgW) {
-            c = kab * V0[j] * hgW[q];  // W0_ab / |X_ab|^2 stored (family_storage fast)
-          } else {
-            const double r0 = Xji.norm();
-            c = kab * V0[j] * K.value(r0) / (r0 * r0);
+        for (Index i = 0; i < n; ++i) {
+          const int k = slotOf(mat[i]);
+          if (k < 0) {
+            phi[i] = 0.0;
+            continue;
           }
-          const Vec<D> res = xji - 0.5 * (Fi + Eigen::Map<const Mat<D>>(Fg + j * D * D)) * Xji;
-          M.noalias() += c * res * Xji.transpose();
-          direct.noalias() += c * res;
-          e2 += c * res.squaredNorm();
+          const PairImage im = image;
+          const std::int32_t* const famL = fam;
+          const Index* const idxL = idx;
+          const double* const hkL = hgK;
+          const double* const V0L = V0;
+          const double* const hwL = hgW;
+          const double* const XL = X;
+          const double* const xL = x;
+          const double* const FgL = Fg;
+          const Mat<D> Fi = Eigen::Map<const Mat<D>>(FgL + i * D * D);
+          const Vec<D> Xi = Eigen::Map<const Vec<D>>(XL + i * D);
+          const Vec<D> xi = Eigen::Map<const Vec<D>>(xL + i * D);
+          const double ki = hkL[i];
+          Mat<D> M = Mat<D>::Zero();
+          Vec<D> direct = Vec<D>::Zero();
+          double e2 = 0.0;
+          const std::int64_t q0 = off[row[i]], q1 = off[row[i] + 1];
+          for (std::int64_t q = q0; q < q1; ++q) {
+            const Index j = idxL[famL[q]];
+            const double kab = hourglassPairStiffness(ki, hkL[j]);
+            if (kab == 0.0) continue;
+            Vec<D> Xji = Eigen::Map<const Vec<D>>(XL + j * D) - Xi;
+            Vec<D> xji = Eigen::Map<const Vec<D>>(xL + j * D) - xi;
+            im.apply<D>(Xji);
+            im.apply<D>(xji);
+            double c;
+            if constexpr (decltype(kStored)::value) {
+              c = kab * V0L[j] * hwL[q];  // W0_ab / |X_ab|^2 stored (family_storage fast)
+            } else {
+              const double r0 = Xji.norm();
+              c = kab * V0L[j] * K.value(r0) / (r0 * r0);
+            }
+            const Vec<D> res = xji - 0.5 * (Fi + Eigen::Map<const Mat<D>>(FgL + j * D * D)) * Xji;
+            M.noalias() += c * res * Xji.transpose();
+            direct.noalias() += c * res;
+            e2 += c * res.squaredNorm();
+          }
+          Eigen::Map<Mat<D>>(Q + i * D * D) = Eigen::Map<const Mat<D>>(P + i * D * D) - 0.5 * M;
+          Eigen::Map<Vec<D>>(fd + i * D) = direct;
+          phi[i] = 0.25 * e2;
         }
-        Eigen::Map<Mat<D>>(Q + i * D * D) = Eigen::Map<const Mat<D>>(P + i * D * D) - 0.5 * M;
-        Eigen::Map<Vec<D>>(fd + i * D) = direct;
-        phi[i] = 0.25 * e2;
-      }
+      };
+      W.withFixedType<D>([&](const auto K) {  // the kernel type fixed for the member loop
+        if (hgW)
+          pass(K, std::true_type{});
+        else
+          pass(K, std::false_type{});
       });
       Pf = Q;
       hgDirect = fd;
