@@ -1376,6 +1376,33 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
       hgDirect = fd;
     }
     const bool hgPairwise = anyHourglass_ && !hourglassConservative_;
+    // The member loop of Eq. 2.76 / 2.68 alone (no artificial viscosity, pairwise hourglass spring
+    // or XSPH on the particle: the drainage scenes' clay), with the arrays in locals read once per
+    // particle and the reverse-gradient form a template parameter: the same two Eigen expressions
+    // as the general loop below, so the same sums bit for bit, without the per-member tests and
+    // reloads through the closures.
+    auto plainMembers = [](const auto kStoredReverse, std::int64_t q0, std::int64_t q1,
+                           const std::int32_t* fam, const Index* idx, const double* V0,
+                           const double* G, const double* GR, const std::int32_t* revSlot,
+                           const std::int64_t* off, const std::int32_t* row, const double* Pf,
+                           const double* v, const Mat<D>& Pi, const Vec<D>& vi, Vec<D>& f,
+                           Mat<D>& Fdot) {
+      for (std::int64_t q = q0; q < q1; ++q) {
+        const Index j = idx[fam[q]];
+        const double Vj = V0[j];  // m_j / rho0_j
+        const Vec<D> g = Eigen::Map<const Vec<D>>(G + q * D);
+        const double* grp;
+        if constexpr (decltype(kStoredReverse)::value)
+          grp = GR + q * D;
+        else
+          grp = G + (off[row[j]] + revSlot[q]) * D;
+        const Vec<D> gr = Eigen::Map<const Vec<D>>(grp);
+        const Mat<D> Pj = Eigen::Map<const Mat<D>>(Pf + j * D * D);
+        f.noalias() += Vj * (Pi * g - Pj * gr);  // 2.76 (times m_a / V_a = rho0_a)
+        const Vec<D> vji = Eigen::Map<const Vec<D>>(v + j * D) - vi;
+        Fdot.noalias() += Vj * vji * g.transpose();  // 2.68
+      }
+    };
 #pragma omp parallel for schedule(static) if (n > 512)
     for (Index i = 0; i < n; ++i) {
       const int k = slotOf(mat[i]);
@@ -1390,7 +1417,16 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
       Vec<D> f = Vec<D>::Zero(), fav = Vec<D>::Zero(), dvx = Vec<D>::Zero();
       Mat<D> Fdot = Mat<D>::Zero();
       const bool av = e.avAlpha > 0.0 || e.avBeta > 0.0;
-      for (std::int64_t q = off[row[i]]; q < off[row[i] + 1]; ++q) {
+      const std::int64_t q0 = off[row[i]], q1 = off[row[i] + 1];
+      const bool plain = !av && !(hgPairwise && e.hourglass > 0.0) && !(e.xsph > 0.0);
+      if (plain && GR)
+        plainMembers(std::true_type{}, q0, q1, fam, idx, V0, G, GR, revSlot, off, row, Pf, v, Pi, vi,
+                     f, Fdot);
+      else if (plain)
+        plainMembers(std::false_type{}, q0, q1, fam, idx, V0, G, GR, revSlot, off, row, Pf, v, Pi,
+                     vi, f, Fdot);
+      else
+      for (std::int64_t q = q0; q < q1; ++q) {
         const Index j = idx[fam[q]];
         const double Vj = V0[j];  // m_j / rho0_j
         const Vec<D> g = Eigen::Map<const Vec<D>>(G + q * D);
