@@ -1049,16 +1049,28 @@ void ElasticSolidModule::kinematicsDim(Simulation& sim) {
     const double* V0 = refVolume_.data();
     const Index* idx = idToIndex_.data();
     Index bad = n;
+    // the displacements' minimum image as a plain value (PairImage: wrapPairDisplacement's
+    // values), the arrays into locals once per particle (not reloaded at every member)
+    const PairImage image(period, D);
 #pragma omp parallel for schedule(static) reduction(min : bad) if (n > 512)
     for (Index i = 0; i < n; ++i) {
       if (slotOf(mat[i]) < 0) continue;
-      const Vec<D> ui = Eigen::Map<const Vec<D>>(u + i * D);
+      const PairImage im = image;
+      const std::int32_t* const famL = fam;
+      const Index* const idxL = idx;
+      const double* const V0L = V0;
+      const double* const GL = G;
+      const double* const uL = u;
+      const Vec<D> ui = Eigen::Map<const Vec<D>>(uL + i * D);
       Mat<D> Fi = Mat<D>::Identity();
-      for (std::int64_t q = off[row[i]]; q < off[row[i] + 1]; ++q) {
-        const Index j = idx[fam[q]];
-        const double Vj = V0[j];  // m_j / rho0_j
-        const Vec<D> g = Eigen::Map<const Vec<D>>(G + q * D);
-        Fi.noalias() += Vj * relative(u + j * D, ui) * g.transpose();  // 2.67
+      const std::int64_t q0 = off[row[i]], q1 = off[row[i] + 1];
+      for (std::int64_t q = q0; q < q1; ++q) {
+        const Index j = idxL[famL[q]];
+        const double Vj = V0L[j];  // m_j / rho0_j
+        const Vec<D> g = Eigen::Map<const Vec<D>>(GL + q * D);
+        Vec<D> d = Eigen::Map<const Vec<D>>(uL + j * D) - ui;
+        im.apply<D>(d);
+        Fi.noalias() += Vj * d * g.transpose();  // 2.67
       }
       Eigen::Map<Mat<D>>(F + i * D * D) = Fi;
       if (!(Fi.determinant() > 0.0)) bad = std::min(bad, i);
