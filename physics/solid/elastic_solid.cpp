@@ -62,6 +62,110 @@ struct PairImage {
   }
 };
 
+// The TL member loops (one particle's family) as functions of their own, compiled twice on x86-64
+// with GCC: for the baseline (SSE2) and for AVX2, the copy chosen once at load time by the processor
+// (ifunc), as the fluid's block (fluid_half.cpp). The AVX2 copy uses the three-operand VEX forms and
+// the wider registers; neither copy contracts to FMA ("avx2" does not enable it) and GCC reorders no
+// floating-point sum, so both give the same bits as the loops inline (docs/performance.md "Solid
+// pair loops (stop 33)").
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define PORESPH_MEMBER_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define PORESPH_MEMBER_CLONES
+#endif
+
+// Conservative hourglass pass, one particle (forcesDim): M_a, the direct force and e2 (see there).
+template <int D, bool kStored, class K, class Stiffness>
+PORESPH_MEMBER_CLONES void hourglassMembers(const K kernel, const Stiffness stiffness,
+                                            const PairImage im, Index i, std::int64_t q0,
+                                            std::int64_t q1, const std::int32_t* fam,
+                                            const Index* idx, const double* hgK, const double* V0,
+                                            const double* hgW, const double* X, const double* x,
+                                            const double* Fg, double* Mout, double* directOut,
+                                            double* e2Out) {
+  const Mat<D> Fi = Eigen::Map<const Mat<D>>(Fg + i * D * D);
+  const Vec<D> Xi = Eigen::Map<const Vec<D>>(X + i * D);
+  const Vec<D> xi = Eigen::Map<const Vec<D>>(x + i * D);
+  const double ki = hgK[i];
+  Mat<D> M = Mat<D>::Zero();
+  Vec<D> direct = Vec<D>::Zero();
+  double e2 = 0.0;
+  for (std::int64_t q = q0; q < q1; ++q) {
+    const Index j = idx[fam[q]];
+    const double kab = stiffness(ki, hgK[j]);
+    if (kab == 0.0) continue;
+    Vec<D> Xji = Eigen::Map<const Vec<D>>(X + j * D) - Xi;
+    Vec<D> xji = Eigen::Map<const Vec<D>>(x + j * D) - xi;
+    im.apply<D>(Xji);
+    im.apply<D>(xji);
+    double c;
+    if constexpr (kStored) {
+      c = kab * V0[j] * hgW[q];  // W0_ab / |X_ab|^2 stored (family_storage fast)
+    } else {
+      const double r0 = Xji.norm();
+      c = kab * V0[j] * kernel.value(r0) / (r0 * r0);
+    }
+    const Vec<D> res = xji - 0.5 * (Fi + Eigen::Map<const Mat<D>>(Fg + j * D * D)) * Xji;
+    M.noalias() += c * res * Xji.transpose();
+    direct.noalias() += c * res;
+    e2 += c * res.squaredNorm();
+  }
+  Eigen::Map<Mat<D>>{Mout} = M;
+  Eigen::Map<Vec<D>>{directOut} = direct;
+  *e2Out = e2;
+}
+
+// The force loop's members of one particle without artificial viscosity, pairwise hourglass
+// spring or XSPH (forcesDim): Eq. 2.76 into f, Eq. 2.68 into Fdot.
+template <int D, bool kStoredReverse>
+PORESPH_MEMBER_CLONES void forceMembers(std::int64_t q0, std::int64_t q1, const std::int32_t* fam,
+                                        const Index* idx, const double* V0, const double* G,
+                                        const double* GR, const std::int32_t* revSlot,
+                                        const std::int64_t* off, const std::int32_t* row,
+                                        const double* Pf, const double* v, const double* PiIn,
+                                        const double* viIn, double* fOut, double* FdotOut) {
+  const Mat<D> Pi = Eigen::Map<const Mat<D>>(PiIn);
+  const Vec<D> vi = Eigen::Map<const Vec<D>>(viIn);
+  Vec<D> f = Vec<D>::Zero();
+  Mat<D> Fdot = Mat<D>::Zero();
+  for (std::int64_t q = q0; q < q1; ++q) {
+    const Index j = idx[fam[q]];
+    const double Vj = V0[j];  // m_j / rho0_j
+    const Vec<D> g = Eigen::Map<const Vec<D>>(G + q * D);
+    const double* grp;
+    if constexpr (kStoredReverse)
+      grp = GR + q * D;
+    else
+      grp = G + (off[row[j]] + revSlot[q]) * D;
+    const Vec<D> gr = Eigen::Map<const Vec<D>>(grp);
+    const Mat<D> Pj = Eigen::Map<const Mat<D>>(Pf + j * D * D);
+    f.noalias() += Vj * (Pi * g - Pj * gr);  // 2.76 (times m_a / V_a = rho0_a)
+    const Vec<D> vji = Eigen::Map<const Vec<D>>(v + j * D) - vi;
+    Fdot.noalias() += Vj * vji * g.transpose();  // 2.68
+  }
+  Eigen::Map<Vec<D>>{fOut} = f;
+  Eigen::Map<Mat<D>>{FdotOut} = Fdot;
+}
+
+// The deformation gradient of one particle, Eq. 2.67 (kinematicsDim).
+template <int D>
+PORESPH_MEMBER_CLONES void defGradMembers(const PairImage im, Index i, std::int64_t q0,
+                                          std::int64_t q1, const std::int32_t* fam,
+                                          const Index* idx, const double* V0, const double* G,
+                                          const double* u, double* Fout) {
+  const Vec<D> ui = Eigen::Map<const Vec<D>>(u + i * D);
+  Mat<D> Fi = Mat<D>::Identity();
+  for (std::int64_t q = q0; q < q1; ++q) {
+    const Index j = idx[fam[q]];
+    const double Vj = V0[j];  // m_j / rho0_j
+    const Vec<D> g = Eigen::Map<const Vec<D>>(G + q * D);
+    Vec<D> d = Eigen::Map<const Vec<D>>(u + j * D) - ui;
+    im.apply<D>(d);
+    Fi.noalias() += Vj * d * g.transpose();  // 2.67
+  }
+  Eigen::Map<Mat<D>>{Fout} = Fi;
+}
+
 constexpr unsigned kInternal = kFieldCheckpoint;  // state that is neither output nor ghosted
 
 std::string fmt(double v) {
@@ -1050,28 +1154,13 @@ void ElasticSolidModule::kinematicsDim(Simulation& sim) {
     const Index* idx = idToIndex_.data();
     Index bad = n;
     // the displacements' minimum image as a plain value (PairImage: wrapPairDisplacement's
-    // values), the arrays into locals once per particle (not reloaded at every member)
+    // values), the arrays passed to defGradMembers once per particle (not reloaded per member)
     const PairImage image(period, D);
 #pragma omp parallel for schedule(static) reduction(min : bad) if (n > 512)
     for (Index i = 0; i < n; ++i) {
       if (slotOf(mat[i]) < 0) continue;
-      const PairImage im = image;
-      const std::int32_t* const famL = fam;
-      const Index* const idxL = idx;
-      const double* const V0L = V0;
-      const double* const GL = G;
-      const double* const uL = u;
-      const Vec<D> ui = Eigen::Map<const Vec<D>>(uL + i * D);
-      Mat<D> Fi = Mat<D>::Identity();
-      const std::int64_t q0 = off[row[i]], q1 = off[row[i] + 1];
-      for (std::int64_t q = q0; q < q1; ++q) {
-        const Index j = idxL[famL[q]];
-        const double Vj = V0L[j];  // m_j / rho0_j
-        const Vec<D> g = Eigen::Map<const Vec<D>>(GL + q * D);
-        Vec<D> d = Eigen::Map<const Vec<D>>(uL + j * D) - ui;
-        im.apply<D>(d);
-        Fi.noalias() += Vj * d * g.transpose();  // 2.67
-      }
+      Mat<D> Fi;
+      defGradMembers<D>(image, i, off[row[i]], off[row[i] + 1], fam, idx, V0, G, u, Fi.data());
       Eigen::Map<Mat<D>>(F + i * D * D) = Fi;
       if (!(Fi.determinant() > 0.0)) bad = std::min(bad, i);
     }
@@ -1325,8 +1414,8 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
       double* phi = s.data(hgEnergy_);
       const double* hgW = famHgW_.empty() ? nullptr : famHgW_.data();
       const PairImage image(L.data(), D);
-      // The member loop with the factor W0_ab / |X_ab|^2 stored (kStored: family_storage fast) or
-      // computed; the arrays and the image read into locals once per particle (the loop had
+      // The member loop (hourglassMembers) with the factor W0_ab / |X_ab|^2 stored (kStored:
+      // family_storage fast) or computed; the arrays passed once per particle (the loop inline had
       // reloaded them through the closures at every member). The same arithmetic as before.
       auto pass = [&](const auto K, const auto kStored) {
 #pragma omp parallel for schedule(static) if (n > 512)
@@ -1336,43 +1425,13 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
             phi[i] = 0.0;
             continue;
           }
-          const PairImage im = image;
-          const std::int32_t* const famL = fam;
-          const Index* const idxL = idx;
-          const double* const hkL = hgK;
-          const double* const V0L = V0;
-          const double* const hwL = hgW;
-          const double* const XL = X;
-          const double* const xL = x;
-          const double* const FgL = Fg;
-          const Mat<D> Fi = Eigen::Map<const Mat<D>>(FgL + i * D * D);
-          const Vec<D> Xi = Eigen::Map<const Vec<D>>(XL + i * D);
-          const Vec<D> xi = Eigen::Map<const Vec<D>>(xL + i * D);
-          const double ki = hkL[i];
-          Mat<D> M = Mat<D>::Zero();
-          Vec<D> direct = Vec<D>::Zero();
-          double e2 = 0.0;
-          const std::int64_t q0 = off[row[i]], q1 = off[row[i] + 1];
-          for (std::int64_t q = q0; q < q1; ++q) {
-            const Index j = idxL[famL[q]];
-            const double kab = hourglassPairStiffness(ki, hkL[j]);
-            if (kab == 0.0) continue;
-            Vec<D> Xji = Eigen::Map<const Vec<D>>(XL + j * D) - Xi;
-            Vec<D> xji = Eigen::Map<const Vec<D>>(xL + j * D) - xi;
-            im.apply<D>(Xji);
-            im.apply<D>(xji);
-            double c;
-            if constexpr (decltype(kStored)::value) {
-              c = kab * V0L[j] * hwL[q];  // W0_ab / |X_ab|^2 stored (family_storage fast)
-            } else {
-              const double r0 = Xji.norm();
-              c = kab * V0L[j] * K.value(r0) / (r0 * r0);
-            }
-            const Vec<D> res = xji - 0.5 * (Fi + Eigen::Map<const Mat<D>>(FgL + j * D * D)) * Xji;
-            M.noalias() += c * res * Xji.transpose();
-            direct.noalias() += c * res;
-            e2 += c * res.squaredNorm();
-          }
+          Mat<D> M;
+          Vec<D> direct;
+          double e2;
+          hourglassMembers<D, decltype(kStored)::value>(
+              K, [](double a, double b) { return hourglassPairStiffness(a, b); }, image, i,
+              off[row[i]], off[row[i] + 1], fam, idx, hgK, V0, hgW, X, x, Fg, M.data(),
+              direct.data(), &e2);
           Eigen::Map<Mat<D>>(Q + i * D * D) = Eigen::Map<const Mat<D>>(P + i * D * D) - 0.5 * M;
           Eigen::Map<Vec<D>>(fd + i * D) = direct;
           phi[i] = 0.25 * e2;
@@ -1388,33 +1447,10 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
       hgDirect = fd;
     }
     const bool hgPairwise = anyHourglass_ && !hourglassConservative_;
-    // The member loop of Eq. 2.76 / 2.68 alone (no artificial viscosity, pairwise hourglass spring
-    // or XSPH on the particle: the drainage scenes' clay), with the arrays in locals read once per
-    // particle and the reverse-gradient form a template parameter: the same two Eigen expressions
-    // as the general loop below, so the same sums bit for bit, without the per-member tests and
-    // reloads through the closures.
-    auto plainMembers = [](const auto kStoredReverse, std::int64_t q0, std::int64_t q1,
-                           const std::int32_t* fam, const Index* idx, const double* V0,
-                           const double* G, const double* GR, const std::int32_t* revSlot,
-                           const std::int64_t* off, const std::int32_t* row, const double* Pf,
-                           const double* v, const Mat<D>& Pi, const Vec<D>& vi, Vec<D>& f,
-                           Mat<D>& Fdot) {
-      for (std::int64_t q = q0; q < q1; ++q) {
-        const Index j = idx[fam[q]];
-        const double Vj = V0[j];  // m_j / rho0_j
-        const Vec<D> g = Eigen::Map<const Vec<D>>(G + q * D);
-        const double* grp;
-        if constexpr (decltype(kStoredReverse)::value)
-          grp = GR + q * D;
-        else
-          grp = G + (off[row[j]] + revSlot[q]) * D;
-        const Vec<D> gr = Eigen::Map<const Vec<D>>(grp);
-        const Mat<D> Pj = Eigen::Map<const Mat<D>>(Pf + j * D * D);
-        f.noalias() += Vj * (Pi * g - Pj * gr);  // 2.76 (times m_a / V_a = rho0_a)
-        const Vec<D> vji = Eigen::Map<const Vec<D>>(v + j * D) - vi;
-        Fdot.noalias() += Vj * vji * g.transpose();  // 2.68
-      }
-    };
+    // A particle without artificial viscosity, pairwise hourglass spring or XSPH (the drainage
+    // scenes' clay) takes forceMembers: the arrays as arguments, the reverse-gradient form a
+    // template parameter, the same two Eigen expressions as the general loop below, so the same
+    // sums bit for bit, without the per-member tests and reloads through the closures.
 #pragma omp parallel for schedule(static) if (n > 512)
     for (Index i = 0; i < n; ++i) {
       const int k = slotOf(mat[i]);
@@ -1432,11 +1468,11 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
       const std::int64_t q0 = off[row[i]], q1 = off[row[i] + 1];
       const bool plain = !av && !(hgPairwise && e.hourglass > 0.0) && !(e.xsph > 0.0);
       if (plain && GR)
-        plainMembers(std::true_type{}, q0, q1, fam, idx, V0, G, GR, revSlot, off, row, Pf, v, Pi, vi,
-                     f, Fdot);
+        forceMembers<D, true>(q0, q1, fam, idx, V0, G, GR, revSlot, off, row, Pf, v, Pi.data(),
+                              vi.data(), f.data(), Fdot.data());
       else if (plain)
-        plainMembers(std::false_type{}, q0, q1, fam, idx, V0, G, GR, revSlot, off, row, Pf, v, Pi,
-                     vi, f, Fdot);
+        forceMembers<D, false>(q0, q1, fam, idx, V0, G, GR, revSlot, off, row, Pf, v, Pi.data(),
+                               vi.data(), f.data(), Fdot.data());
       else
       for (std::int64_t q = q0; q < q1; ++q) {
         const Index j = idx[fam[q]];
