@@ -138,7 +138,11 @@ PORESPH_MEMBER_CLONES void forceMembers(std::int64_t q0, std::int64_t q1, const 
     else
       grp = G + (off[row[j]] + revSlot[q]) * D;
     const Vec<D> gr = Eigen::Map<const Vec<D>>(grp);
-    const Mat<D> Pj = Eigen::Map<const Mat<D>>(Pf + j * D * D);
+    // P_b read in place: a copy (const Mat<D> Pj = ...) went through the stack, and the product
+    // then loaded a pair of coefficients that straddled two of the copy's stores, which the
+    // processor cannot forward: the force loop's largest stall on the thesis-size scene (44 % of
+    // its samples at the add after that load, perf annotate). The same coefficients and products.
+    const Eigen::Map<const Mat<D>> Pj(Pf + j * D * D);
     f.noalias() += Vj * (Pi * g - Pj * gr);  // 2.76 (times m_a / V_a = rho0_a)
     const Vec<D> vji = Eigen::Map<const Vec<D>>(v + j * D) - vi;
     Fdot.noalias() += Vj * vji * g.transpose();  // 2.68
