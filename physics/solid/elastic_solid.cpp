@@ -10,6 +10,7 @@
 #include <cstring>
 #include <limits>
 #include <sstream>
+#include <type_traits>
 
 #include "libcore/phases.hpp"
 #include "libcore/simulation.hpp"
@@ -32,6 +33,141 @@ inline void wrapPairDisplacement(V& d, const double* period) {
   for (int a = 0; a < D; ++a)
     if (period[a] > 0.0 && std::abs(d[a]) >= 0.25 * period[a])
       d[a] -= period[a] * std::round(d[a] / period[a]);
+}
+
+// Minimum image of a pair separation along the periodic axes, the member loops' form of
+// "if (L > 0 && |d| >= L / 4) d -= L round(d / L)" (the family's minimumImage, and
+// wrapPairDisplacement on the TL displacements): the quarter periods are precomputed (0.25 L is
+// exact) and +inf on a non-periodic axis, so a member costs one comparison per axis and the period
+// is tested only where |d| passed it (an infinite d on a non-periodic axis). The same values bit
+// for bit. A plain value: the member loops copy it per particle, so GCC keeps it in registers
+// instead of reloading the periods through the closures at every member (docs/performance.md
+// "Solid pair loops (stop 33)").
+struct PairImage {
+  double period[3] = {0.0, 0.0, 0.0};
+  double quarter[3] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+                       std::numeric_limits<double>::infinity()};
+  PairImage(const double* L, int d) {
+    for (int a = 0; a < d; ++a)
+      if (L[a] > 0.0) {
+        period[a] = L[a];
+        quarter[a] = 0.25 * L[a];
+      }
+  }
+  template <int D>
+  void apply(Vec<D>& d) const {
+    for (int a = 0; a < D; ++a)
+      if (std::abs(d[a]) >= quarter[a] && period[a] > 0.0)
+        d[a] -= period[a] * std::round(d[a] / period[a]);
+  }
+};
+
+// The TL member loops (one particle's family) as functions of their own, compiled twice on x86-64
+// with GCC: for the baseline (SSE2) and for AVX2, the copy chosen once at load time by the processor
+// (ifunc), as the fluid's block (fluid_half.cpp). The AVX2 copy uses the three-operand VEX forms and
+// the wider registers; neither copy contracts to FMA ("avx2" does not enable it) and GCC reorders no
+// floating-point sum, so both give the same bits as the loops inline (docs/performance.md "Solid
+// pair loops (stop 33)").
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define PORESPH_MEMBER_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define PORESPH_MEMBER_CLONES
+#endif
+
+// Conservative hourglass pass, one particle (forcesDim): M_a, the direct force and e2 (see there).
+template <int D, bool kStored, class K, class Stiffness>
+PORESPH_MEMBER_CLONES void hourglassMembers(const K kernel, const Stiffness stiffness,
+                                            const PairImage im, Index i, std::int64_t q0,
+                                            std::int64_t q1, const std::int32_t* fam,
+                                            const Index* idx, const double* hgK, const double* V0,
+                                            const double* hgW, const double* X, const double* x,
+                                            const double* Fg, double* Mout, double* directOut,
+                                            double* e2Out) {
+  const Mat<D> Fi = Eigen::Map<const Mat<D>>(Fg + i * D * D);
+  const Vec<D> Xi = Eigen::Map<const Vec<D>>(X + i * D);
+  const Vec<D> xi = Eigen::Map<const Vec<D>>(x + i * D);
+  const double ki = hgK[i];
+  Mat<D> M = Mat<D>::Zero();
+  Vec<D> direct = Vec<D>::Zero();
+  double e2 = 0.0;
+  for (std::int64_t q = q0; q < q1; ++q) {
+    const Index j = idx[fam[q]];
+    const double kab = stiffness(ki, hgK[j]);
+    if (kab == 0.0) continue;
+    Vec<D> Xji = Eigen::Map<const Vec<D>>(X + j * D) - Xi;
+    Vec<D> xji = Eigen::Map<const Vec<D>>(x + j * D) - xi;
+    im.apply<D>(Xji);
+    im.apply<D>(xji);
+    double c;
+    if constexpr (kStored) {
+      c = kab * V0[j] * hgW[q];  // W0_ab / |X_ab|^2 stored (family_storage fast)
+    } else {
+      const double r0 = Xji.norm();
+      c = kab * V0[j] * kernel.value(r0) / (r0 * r0);
+    }
+    const Vec<D> res = xji - 0.5 * (Fi + Eigen::Map<const Mat<D>>(Fg + j * D * D)) * Xji;
+    M.noalias() += c * res * Xji.transpose();
+    direct.noalias() += c * res;
+    e2 += c * res.squaredNorm();
+  }
+  Eigen::Map<Mat<D>>{Mout} = M;
+  Eigen::Map<Vec<D>>{directOut} = direct;
+  *e2Out = e2;
+}
+
+// The force loop's members of one particle without artificial viscosity, pairwise hourglass
+// spring or XSPH (forcesDim): Eq. 2.76 into f, Eq. 2.68 into Fdot.
+template <int D, bool kStoredReverse>
+PORESPH_MEMBER_CLONES void forceMembers(std::int64_t q0, std::int64_t q1, const std::int32_t* fam,
+                                        const Index* idx, const double* V0, const double* G,
+                                        const double* GR, const std::int32_t* revSlot,
+                                        const std::int64_t* off, const std::int32_t* row,
+                                        const double* Pf, const double* v, const double* PiIn,
+                                        const double* viIn, double* fOut, double* FdotOut) {
+  const Mat<D> Pi = Eigen::Map<const Mat<D>>(PiIn);
+  const Vec<D> vi = Eigen::Map<const Vec<D>>(viIn);
+  Vec<D> f = Vec<D>::Zero();
+  Mat<D> Fdot = Mat<D>::Zero();
+  for (std::int64_t q = q0; q < q1; ++q) {
+    const Index j = idx[fam[q]];
+    const double Vj = V0[j];  // m_j / rho0_j
+    const Vec<D> g = Eigen::Map<const Vec<D>>(G + q * D);
+    const double* grp;
+    if constexpr (kStoredReverse)
+      grp = GR + q * D;
+    else
+      grp = G + (off[row[j]] + revSlot[q]) * D;
+    const Vec<D> gr = Eigen::Map<const Vec<D>>(grp);
+    // P_b read in place: a copy (const Mat<D> Pj = ...) went through the stack, and the product
+    // then loaded a pair of coefficients that straddled two of the copy's stores, which the
+    // processor cannot forward: the force loop's largest stall on the thesis-size scene (44 % of
+    // its samples at the add after that load, perf annotate). The same coefficients and products.
+    const Eigen::Map<const Mat<D>> Pj(Pf + j * D * D);
+    f.noalias() += Vj * (Pi * g - Pj * gr);  // 2.76 (times m_a / V_a = rho0_a)
+    const Vec<D> vji = Eigen::Map<const Vec<D>>(v + j * D) - vi;
+    Fdot.noalias() += Vj * vji * g.transpose();  // 2.68
+  }
+  Eigen::Map<Vec<D>>{fOut} = f;
+  Eigen::Map<Mat<D>>{FdotOut} = Fdot;
+}
+
+// The deformation gradient of one particle, Eq. 2.67 (kinematicsDim).
+template <int D>
+PORESPH_MEMBER_CLONES void defGradMembers(const PairImage im, Index i, std::int64_t q0,
+                                          std::int64_t q1, const std::int32_t* fam,
+                                          const Index* idx, const double* V0, const double* G,
+                                          const double* u, double* Fout) {
+  const Vec<D> ui = Eigen::Map<const Vec<D>>(u + i * D);
+  Mat<D> Fi = Mat<D>::Identity();
+  for (std::int64_t q = q0; q < q1; ++q) {
+    const Index j = idx[fam[q]];
+    const double Vj = V0[j];  // m_j / rho0_j
+    const Vec<D> g = Eigen::Map<const Vec<D>>(G + q * D);
+    Vec<D> d = Eigen::Map<const Vec<D>>(u + j * D) - ui;
+    im.apply<D>(d);
+    Fi.noalias() += Vj * d * g.transpose();  // 2.67
+  }
+  Eigen::Map<Mat<D>>{Fout} = Fi;
 }
 
 constexpr unsigned kInternal = kFieldCheckpoint;  // state that is neither output nor ghosted
@@ -1021,17 +1157,14 @@ void ElasticSolidModule::kinematicsDim(Simulation& sim) {
     const double* V0 = refVolume_.data();
     const Index* idx = idToIndex_.data();
     Index bad = n;
+    // the displacements' minimum image as a plain value (PairImage: wrapPairDisplacement's
+    // values), the arrays passed to defGradMembers once per particle (not reloaded per member)
+    const PairImage image(period, D);
 #pragma omp parallel for schedule(static) reduction(min : bad) if (n > 512)
     for (Index i = 0; i < n; ++i) {
       if (slotOf(mat[i]) < 0) continue;
-      const Vec<D> ui = Eigen::Map<const Vec<D>>(u + i * D);
-      Mat<D> Fi = Mat<D>::Identity();
-      for (std::int64_t q = off[row[i]]; q < off[row[i] + 1]; ++q) {
-        const Index j = idx[fam[q]];
-        const double Vj = V0[j];  // m_j / rho0_j
-        const Vec<D> g = Eigen::Map<const Vec<D>>(G + q * D);
-        Fi.noalias() += Vj * relative(u + j * D, ui) * g.transpose();  // 2.67
-      }
+      Mat<D> Fi;
+      defGradMembers<D>(image, i, off[row[i]], off[row[i] + 1], fam, idx, V0, G, u, Fi.data());
       Eigen::Map<Mat<D>>(F + i * D * D) = Fi;
       if (!(Fi.determinant() > 0.0)) bad = std::min(bad, i);
     }
@@ -1284,48 +1417,44 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
       double* fd = Q + static_cast<size_t>(n) * D * D;
       double* phi = s.data(hgEnergy_);
       const double* hgW = famHgW_.empty() ? nullptr : famHgW_.data();
-      W.withFixedType<D>([&](const auto K) {  // the kernel type fixed for the member loop
+      const PairImage image(L.data(), D);
+      // The member loop (hourglassMembers) with the factor W0_ab / |X_ab|^2 stored (kStored:
+      // family_storage fast) or computed; the arrays passed once per particle (the loop inline had
+      // reloaded them through the closures at every member). The same arithmetic as before.
+      auto pass = [&](const auto K, const auto kStored) {
 #pragma omp parallel for schedule(static) if (n > 512)
-      for (Index i = 0; i < n; ++i) {
-        const int k = slotOf(mat[i]);
-        if (k < 0) {
-          phi[i] = 0.0;
-          continue;
-        }
-        const Mat<D> Fi = Eigen::Map<const Mat<D>>(Fg + i * D * D);
-        const Vec<D> Xi = Eigen::Map<const Vec<D>>(X + i * D);
-        const Vec<D> xi = Eigen::Map<const Vec<D>>(x + i * D);
-        const double ki = hgK[i];
-        Mat<D> M = Mat<D>::Zero();
-        Vec<D> direct = Vec<D>::Zero();
-        double e2 = 0.0;
-        for (std::int64_t q = off[row[i]]; q < off[row[i] + 1]; ++q) {
-          const Index j = idx[fam[q]];
-          const double kab = hourglassPairStiffness(ki, hgK[j]);
-          if (kab == 0.0) continue;
-          const Vec<D> Xji = minimumImage(Vec<D>(Eigen::Map<const Vec<D>>(X + j * D) - Xi));
-          const Vec<D> xji = minimumImage(Vec<D>(Eigen::Map<const Vec<D>>(x + j * D) - xi));
-          double c;
-          if (hgW) {
-            c = kab * V0[j] * hgW[q];  // W0_ab / |X_ab|^2 stored (family_storage fast)
-          } else {
-            const double r0 = Xji.norm();
-            c = kab * V0[j] * K.value(r0) / (r0 * r0);
+        for (Index i = 0; i < n; ++i) {
+          const int k = slotOf(mat[i]);
+          if (k < 0) {
+            phi[i] = 0.0;
+            continue;
           }
-          const Vec<D> res = xji - 0.5 * (Fi + Eigen::Map<const Mat<D>>(Fg + j * D * D)) * Xji;
-          M.noalias() += c * res * Xji.transpose();
-          direct.noalias() += c * res;
-          e2 += c * res.squaredNorm();
+          Mat<D> M;
+          Vec<D> direct;
+          double e2;
+          hourglassMembers<D, decltype(kStored)::value>(
+              K, [](double a, double b) { return hourglassPairStiffness(a, b); }, image, i,
+              off[row[i]], off[row[i] + 1], fam, idx, hgK, V0, hgW, X, x, Fg, M.data(),
+              direct.data(), &e2);
+          Eigen::Map<Mat<D>>(Q + i * D * D) = Eigen::Map<const Mat<D>>(P + i * D * D) - 0.5 * M;
+          Eigen::Map<Vec<D>>(fd + i * D) = direct;
+          phi[i] = 0.25 * e2;
         }
-        Eigen::Map<Mat<D>>(Q + i * D * D) = Eigen::Map<const Mat<D>>(P + i * D * D) - 0.5 * M;
-        Eigen::Map<Vec<D>>(fd + i * D) = direct;
-        phi[i] = 0.25 * e2;
-      }
+      };
+      W.withFixedType<D>([&](const auto K) {  // the kernel type fixed for the member loop
+        if (hgW)
+          pass(K, std::true_type{});
+        else
+          pass(K, std::false_type{});
       });
       Pf = Q;
       hgDirect = fd;
     }
     const bool hgPairwise = anyHourglass_ && !hourglassConservative_;
+    // A particle without artificial viscosity, pairwise hourglass spring or XSPH (the drainage
+    // scenes' clay) takes forceMembers: the arrays as arguments, the reverse-gradient form a
+    // template parameter, the same two Eigen expressions as the general loop below, so the same
+    // sums bit for bit, without the per-member tests and reloads through the closures.
 #pragma omp parallel for schedule(static) if (n > 512)
     for (Index i = 0; i < n; ++i) {
       const int k = slotOf(mat[i]);
@@ -1340,7 +1469,16 @@ void ElasticSolidModule::forcesDim(Simulation& sim) {
       Vec<D> f = Vec<D>::Zero(), fav = Vec<D>::Zero(), dvx = Vec<D>::Zero();
       Mat<D> Fdot = Mat<D>::Zero();
       const bool av = e.avAlpha > 0.0 || e.avBeta > 0.0;
-      for (std::int64_t q = off[row[i]]; q < off[row[i] + 1]; ++q) {
+      const std::int64_t q0 = off[row[i]], q1 = off[row[i] + 1];
+      const bool plain = !av && !(hgPairwise && e.hourglass > 0.0) && !(e.xsph > 0.0);
+      if (plain && GR)
+        forceMembers<D, true>(q0, q1, fam, idx, V0, G, GR, revSlot, off, row, Pf, v, Pi.data(),
+                              vi.data(), f.data(), Fdot.data());
+      else if (plain)
+        forceMembers<D, false>(q0, q1, fam, idx, V0, G, GR, revSlot, off, row, Pf, v, Pi.data(),
+                               vi.data(), f.data(), Fdot.data());
+      else
+      for (std::int64_t q = q0; q < q1; ++q) {
         const Index j = idx[fam[q]];
         const double Vj = V0[j];  // m_j / rho0_j
         const Vec<D> g = Eigen::Map<const Vec<D>>(G + q * D);
