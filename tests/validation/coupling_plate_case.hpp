@@ -119,11 +119,15 @@ inline std::string plateScene(int across, double endTime, bool water, double hOv
 /// short tank of clamped elastic particles (side walls and floor: fluid-solid pairs of the
 /// coupling, `model`), with gravity raised so that the bottom pressure is the plate case's
 /// rho_w g H = 19 620 Pa (sqrt(2 g H) and the sound speed's margin unchanged).
+/// plateFloor: the floor is the plate case's damped elastic plate (t = 0.05 m, mirror-clamped
+/// under the side walls, its own h = 1.3 dx) instead of clamped particles: a moving solid.
 inline std::string tankScene(int across, double width, double height, double endTime,
                              double fluidHOverDx = kFluidHOverDx,
-                             const std::string& model = "extrapolated") {
+                             const std::string& model = "extrapolated", bool plateFloor = false) {
   const double dx = kT / across;
-  const double c = std::ceil(2.0 * fluidHOverDx - 1e-9) * dx;  // one fluid support
+  // one fluid support; with the plate two plate supports (its mirror clamps)
+  const double c =
+      std::ceil(std::max(2.0 * fluidHOverDx, plateFloor ? 4.0 * 1.3 : 0.0) - 1e-9) * dx;
   const double g = kG * kH / height;
   const double rhoS = 2700.0 * kMassScale;
   std::ostringstream s;
@@ -134,14 +138,29 @@ inline std::string tankScene(int across, double width, double height, double end
     << "time_step: {adaptive: true, cfl: 0.9}\noutput: {every_time: 0.05}\nmaterials:\n"
     << "  - {name: water, model: fluid, density: 1000, sound_speed: 63, viscosity: 1.0e-3}\n"
     << "  - {name: tank, model: elastic, density: " << rhoS
-    << ", young_modulus: 67.5e9, poisson_ratio: 0.34, plane: strain}\ngeometry:\n"
-    << "  - {shape: box, lo: [" << num(-c) << ", " << num(-c) << "], hi: [" << num(width + c)
-    << ", " << num(height + c) << "], material: tank}\n"
-    << "  - {shape: box, lo: [0.0, 0.0], hi: [" << num(width) << ", " << num(height)
+    << ", young_modulus: 67.5e9, poisson_ratio: 0.34, plane: strain}\n";
+  if (plateFloor)
+    s << "  - {name: plate, model: elastic, density: " << rhoS
+      << ", young_modulus: 67.5e9, poisson_ratio: 0.34, plane: strain, hourglass: 1.0, damping: "
+      << kDamping << "}\n";
+  s << "geometry:\n"
+    << "  - {shape: box, lo: [" << num(-c) << ", " << num(plateFloor ? 0.0 : -c) << "], hi: ["
+    << num(width + c) << ", " << num(height + c) << "], material: tank}\n";
+  if (plateFloor)
+    s << "  - {shape: box, lo: [" << num(-c) << ", " << num(-kT) << "], hi: [" << num(width + c)
+      << ", 0.0], material: plate}\n";
+  s << "  - {shape: box, lo: [0.0, 0.0], hi: [" << num(width) << ", " << num(height)
     << "], material: water}\n"
     << "fluid:\n  gravity: [0, " << num(-g) << "]\n  hydrostatic_level: " << num(height)
     << "\n  artificial_viscosity: 0.2\n"
-    << "solid:\n  boundaries:\n    - {name: walls, type: clamped, material: tank}\n";
+    << "solid:\n";
+  if (plateFloor) s << "  smoothing_length: " << num(1.3 * dx) << "\n";
+  s << "  boundaries:\n    - {name: walls, type: clamped, material: tank}\n";
+  if (plateFloor)
+    s << "    - {name: left, type: clamped, box: {min: [-1, -1], max: [0, 0]}, mirror: {point: "
+         "[0, 0], normal: [1, 0]}}\n"
+      << "    - {name: right, type: clamped, box: {min: [" << num(width) << ", -1], max: ["
+      << num(width + 1.0) << ", 0]}, mirror: {point: [" << num(width) << ", 0], normal: [-1, 0]}}\n";
   return s.str();
 }
 
