@@ -28,8 +28,10 @@ TEST(CouplingPlate, HydrostaticColumnLoadsTheClampedPlate) {
               100.0 * vsAlone, 100.0 * vsClosed);
   EXPECT_LT(std::abs(vsAlone), 0.05);
   EXPECT_LT(std::abs(coupled.forceRatio - 1.0), 0.02);
-  EXPECT_LT(coupled.fluidMaxSpeed, 1e-3 * scale);  // measured 2.8e-4
-  const std::string res = "3 particles across the plate (dx = t/3), h = 1.3 dx, extrapolated fluid-solid pairs, " +
+  // measured 4.8e-5 (3.0e-4 m/s; 2.1e-4 ... 4.3e-4 m/s at t = 0.15 ... 0.3 s); 2.9e-4 with the
+  // water at h = 1.3 dx, whose lattice mode grows (docs/coupling.md, "Not at rest at 6 across")
+  EXPECT_LT(coupled.fluidMaxSpeed, 2e-4 * scale);
+  const std::string res = "3 particles across the plate (dx = t/3), h = 2.0 dx (plate 1.3 dx), extrapolated fluid-solid pairs, " +
                           std::to_string(coupled.particles) + " particles";
   test::recordValidation({"coupling_hydrostatic_plate", "mid-span deflection vs plate alone (same load)",
                           coupled.deflection, alone.deflection, std::abs(vsAlone), res,
@@ -41,7 +43,7 @@ TEST(CouplingPlate, HydrostaticColumnLoadsTheClampedPlate) {
                           "clamped beam, plane strain: q L^4 / (384 D), q = rho_w g H"});
   test::recordValidation({"coupling_hydrostatic_plate", "fluid max speed / sqrt(2 g H) at the end",
                           coupled.fluidMaxSpeed / scale, 0.0, coupled.fluidMaxSpeed / scale, res,
-                          coupled.wall, "< 1e-3", "at rest"});
+                          coupled.wall, "< 2e-4", "at rest"});
   test::recordValidation({"coupling_hydrostatic_plate", "vertical fluid force on the solids / water weight",
                           coupled.forceRatio, 1.0, std::abs(coupled.forceRatio - 1.0), res,
                           coupled.wall, "< 2 %", "momentum balance at rest"});
