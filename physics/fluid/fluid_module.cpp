@@ -231,26 +231,28 @@ void FluidModule::configure(Simulation& sim, const std::vector<const Material*>&
     // p >= p_ref only. Full neighbour list (the gather loop).
     wallPushOnly_ = s.boolean("wall_push_only", false);
     // wall_overlap_pressure (issue 16; a short-range repulsion, named as such: it does not remove
-    // the cause below, it stops its effect at the face). The boundary's kernel sum at a fluid
-    // particle a, S_b = sum_b V_b W_ab over its wall, solid and rigid neighbours, is 1/2 at the
-    // face of a boundary at least a support thick (the half-space of a normalised kernel;
-    // quintic h = dx on the lattice: 0.500 at the face, 0.215 at the first fluid layer, +0.62 per
-    // dx beyond the face, the same on a wall particle's row as between two), whatever the
-    // lattice under the face. With the key a particle past that level gets the pressure its
-    // summation density would give the overlap, through the fixed walls only,
-    //   a_a += -(K / rho_a) (S_b - 1/2)+ grad_a S_w,    K = rho0 c0^2 (the fluid's bulk modulus),
-    // S_w = sum_w V_w W_aw the walls' part (the clay and the plates keep their own pairs, which
-    // carry the reaction; a fixed wall needs none). With walls only it is the gradient of the
-    // energy sum_a V_a K (S_w,a - 1/2)+^2 / 2; S_b instead of S_w so that a face where a wall meets
-    // a plate or the clay (the main job's y = 0 face at z 0.6-0.7 mm, wall below the plate's edge)
-    // counts as one face. Zero for every particle on the fluid side of a flat face. Why it is
+    // the cause below, it stops its effect at the face). The fixed walls' kernel sum at a fluid
+    // particle a, S_w = sum_w V_w W_aw, is 1/2 at the face of a wall at least a support thick
+    // (the half-space of a normalised kernel; quintic h = dx on the lattice: 0.500 at the face,
+    // 0.215 at the first fluid layer, +0.62 per dx beyond the face, the same on a wall
+    // particle's row as between two), whatever the lattice under the face. With the key a
+    // particle past that level gets the pressure its summation density would give the overlap,
+    //   a_a += -(K / rho_a) (S_w - 1/2)+ grad_a S_w,    K = rho0 c0^2 (the fluid's bulk modulus),
+    // the gradient of the energy sum_a V_a K (S_w,a - 1/2)+^2 / 2 (a fixed wall needs no
+    // reaction; the clay and the plates keep their own pairs). Walls only, not the clay and the
+    // plates (S_b, the first form): in imaged rock a fluid particle in a one-voxel pore along a
+    // wall has S_b above 1/2 on the lattice at rest (the clay on its other sides), and the
+    // thesis-size scene's such particle was thrown off the wall at the first step (density check
+    // at step 9). Cost of walls only: where a wall meets a plate in one face (the main job's
+    // y = 0 face at z 0.6-0.7 mm) the face's level is reached later, a few water particles
+    // ~0.2 dx past it. Zero for every particle on the fluid side of a flat face. Why it is
     // needed: the Adami wall pushes a fluid particle through the pressure of its continuity
     // density only; in the main job a reservoir gas particle at the wall-clay corner overlapped
     // the wall by S_w 0.36 -> 0.97 while its density stayed 1000-1006 kg/m^3, because its
     // continuity lost as much leaving the clay, whose mirror model counts the clay twice, as it
     // gained entering the wall (docs/fluid.md "Fluid creeping through the walls at a positive
-    // gauge pressure"). It also acts in concave corners, where S_b passes 1/2 inside the fluid
-    // (two faces: a particle within ~0.3 dx of both), and rounds them off by that much. Full
+    // gauge pressure"). It also acts in concave corners of the walls, where S_w passes 1/2 inside
+    // the fluid (two faces: a particle within ~0.3 dx of both), and rounds them off. Full
     // neighbour list (the gather loop).
     wallOverlap_ = s.boolean("wall_overlap_pressure", false);
     transportVelocity_ = s.boolean("transport_velocity", false);
@@ -1286,7 +1288,7 @@ void FluidModule::forcesD(Simulation& sim) {
       const bool mirrorAtWalls = wallMirror_[static_cast<size_t>(ida)] != 0;
       Vec<D> tv = Vec<D>::Zero();
       Vec<D> bg = Vec<D>::Zero();  // sum_b (V_a^2 + V_b^2) grad W (wall_background_pressure)
-      double sW = 0.0;                   // sum_b V_b W_ab, every boundary b (wall_overlap_pressure)
+      double sW = 0.0;                   // S_w = sum_w V_w W_aw, fixed walls (wall_overlap_pressure)
       Vec<D> gradSW = Vec<D>::Zero();    // the walls' part of its gradient, sum_w V_w grad W_aw
       bool nearWall = false;
       for (auto k = nl.offset[i]; k < nl.offset[i + 1]; ++k) {
@@ -1326,16 +1328,13 @@ void FluidModule::forcesD(Simulation& sim) {
           aV += fa * t.viscous;
           aA += t.artificial;
           divv += t.divergence;
-          if (wallOverlap_) {  // wall_overlap_pressure: the walls' part of S_b, grad S_w (configure)
+          if (wallOverlap_) {  // wall_overlap_pressure: S_w and grad S_w (configure)
             sW += vol[j] * K.value(r.norm());
             gradSW += vol[j] * gradW;
           }
           continue;
         }
-        if (f.ph[j] != kPhaseFluid) {  // fluid-solid / fluid-rigid: the coupling's pairs
-          if (wallOverlap_) sW += vol[j] * K.value(r.norm());  // their share of the boundary's sum
-          continue;
-        }
+        if (f.ph[j] != kPhaseFluid) continue;  // fluid-solid / fluid-rigid: the coupling's pairs
         const int idb = f.mt[j];
         const double rhob = f.rho[j], pb = f.p[j];
         const double mub = (idb >= 0 && idb < nm) ? md[idb].viscosity : mua;
@@ -1374,7 +1373,7 @@ void FluidModule::forcesD(Simulation& sim) {
       if (f.nextFactor) f.nextFactor[i] = moment > 0.5 * D ? D / moment : 1.0;
       if (nearWall) aP -= (pOff / f.m[i]) * bg;  // wall_background_pressure
       Vec<D> ai = aP + aV + aA + g;
-      if (sW > 0.5)  // wall_overlap_pressure: -(K / rho_a) (S_b - 1/2) grad S_w (0 without the key)
+      if (sW > 0.5)  // wall_overlap_pressure: -(K / rho_a) (S_w - 1/2) grad S_w (0 without the key)
         ai -= (ma.rho0 * ma.soundSpeed * ma.soundSpeed / rhoa * (sW - 0.5)) * gradSW;
       addBodyForces<D>(f.x + i * D, ai);
       // CSF surface tension, Eq. 1.9: a_s of this evaluation (surfaceAccelerationD, kinematics).

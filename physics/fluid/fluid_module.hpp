@@ -243,7 +243,7 @@ class FluidModule : public Module {
   bool wallCsf_ = false;            // wall_pressure_surface_tension: a_s in the walls' extrapolation
   bool wallBackground_ = false;     // wall_background_pressure: p_b's force kept next to fixed walls
   bool wallPushOnly_ = false;       // wall_push_only: fluid-wall pairs with max(p - p_ref, 0)
-  bool wallOverlap_ = false;        // wall_overlap_pressure: K (S_b - 1/2)+ pushes a fluid particle off the walls
+  bool wallOverlap_ = false;        // wall_overlap_pressure: K (S_w - 1/2)+ pushes a fluid particle off the walls
   double curvatureSmoothing_ = 2.0; // balanced form: curvature Shepard radius / h
   std::vector<double> kappaWork_;   // balanced form: smoothed curvature (surface_tension.cpp)
   double normalThreshold_ = 0.05;   // |n| h below which a normal is not used (5.8)
