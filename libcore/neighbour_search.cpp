@@ -223,7 +223,7 @@ void NeighbourSearch::buildDim(const double* x, Index nReal, Index nTotal, doubl
         out.index.resize(n);
       } else {
         // The list grew: assemble it in a new array (allocates; only when the list grows).
-        std::vector<std::uint32_t> fresh;
+        NeighbourList::IndexVector fresh;
         // Room for the regions of the next build (chunk + 1/8 + 1024 each), so that a steady
         // list does not reallocate again.
         fresh.reserve(n + n / 8 + 1024 * static_cast<std::size_t>(nt));

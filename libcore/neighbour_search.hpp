@@ -15,15 +15,43 @@
 // a pair of a real particle and a ghost stays in the real particle's row as in the full list
 // (ghosts have no row; the mirrored pair sits in the row of the ghost's source).
 #include <cstdint>
+#include <memory>
+#include <new>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "libcore/types.hpp"
 
 namespace poresph {
 
+/// std::allocator whose resize leaves the added elements uninitialised (default-initialised)
+/// instead of zeroing them: the list arrays are always written before they are read, and the
+/// Verlet filter grows the exact list back to the candidates' size every step (issue 17: that
+/// zero-fill was the largest serial part of the step, docs/performance.md).
+template <class T>
+struct DefaultInitAllocator : std::allocator<T> {
+  template <class U>
+  struct rebind {
+    using other = DefaultInitAllocator<U>;
+  };
+  DefaultInitAllocator() noexcept = default;
+  template <class U>
+  DefaultInitAllocator(const DefaultInitAllocator<U>&) noexcept {}
+  template <class U>
+  void construct(U* p) noexcept(std::is_nothrow_default_constructible<U>::value) {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+
 struct NeighbourList {
+  using IndexVector = std::vector<std::uint32_t, DefaultInitAllocator<std::uint32_t>>;
   std::vector<std::int64_t> offset;   ///< size nReal + 1
-  std::vector<std::uint32_t> index;   ///< neighbours of i: index[offset[i] .. offset[i+1])
+  IndexVector index;                  ///< neighbours of i: index[offset[i] .. offset[i+1])
   bool half = false;  ///< only j > i in row i (real-real pairs once; see above)
   Index realCount() const { return offset.empty() ? 0 : static_cast<Index>(offset.size()) - 1; }
   std::int64_t pairCount() const { return offset.empty() ? 0 : offset.back(); }

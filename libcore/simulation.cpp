@@ -147,7 +147,7 @@ void Simulation::updateNeighbours() {
     neighbours.half = true;
     if (neighbours.offset.capacity() > 0 || neighbours.index.capacity() > 0) {
       std::vector<std::int64_t>().swap(neighbours.offset);
-      std::vector<std::uint32_t>().swap(neighbours.index);
+      NeighbourList::IndexVector().swap(neighbours.index);
     }
     return;
   }
