@@ -21,6 +21,7 @@
 #include <utility>
 #include <vector>
 
+#include "libcore/phases.hpp"
 #include "libcore/types.hpp"
 
 namespace poresph {
@@ -60,6 +61,20 @@ struct NeighbourList {
   }
 };
 
+/// Which pairs a search keeps, by the phases of the two particles (Simulation::neighbourPairMask):
+/// with `phase` set, the pair of row i and neighbour j is kept when bit phase[i] * kPhaseCount +
+/// phase[j] of `mask` is set (a class sets both of its bits, so the list stays symmetric); a row
+/// whose phase keeps no class is left empty without being searched. When a particle of
+/// [0, nTotal) has a phase outside [0, kPhaseCount) every pair is kept. The rows that remain
+/// hold their pairs in the order of the unfiltered list.
+struct PairFilter {
+  const std::int32_t* phase = nullptr;  ///< of particles [0, nTotal) (a ghost: its source's)
+  PairMask mask = kAllPairClasses;
+  bool active() const { return phase != nullptr && (mask & kAllPairClasses) != kAllPairClasses; }
+  /// The classes a list built with this filter holds (kAllPairClasses when inactive).
+  PairMask kept() const { return active() ? (mask & kAllPairClasses) : kAllPairClasses; }
+};
+
 class NeighbourSearch {
  public:
   /// Cells, slots and particles of the cell arrays: 32 bits (a store holds < 2^32 particles and
@@ -68,8 +83,9 @@ class NeighbourSearch {
   using CellIndex = std::uint32_t;
   /// Neighbours within `radius` (strictly closer) of each real particle.
   /// x: positions, dim components per particle. `half`: keep only j > i (a half list).
+  /// `keep`: only the pairs of these phase classes (PairFilter; default every pair).
   void build(const double* x, int dim, Index nReal, Index nTotal, double radius,
-             NeighbourList& out, bool half = false);
+             NeighbourList& out, bool half = false, const PairFilter& keep = PairFilter());
   /// Permutation that sorts particles [0, n) by cell (cell size `cellSize`), x fastest: feed it
   /// to ParticleStore::permute for cache locality.
   void cellOrder(const double* x, int dim, Index n, double cellSize, std::vector<Index>& newToOld);
@@ -102,7 +118,7 @@ class NeighbourSearch {
  private:
   template <int D>
   void buildDim(const double* x, Index nReal, Index nTotal, double radius, NeighbourList& out,
-                bool half);
+                bool half, const PairFilter& keep);
   template <int D>
   void sortIntoCells(const double* x, Index n, double cellSize);
   template <int D>
@@ -147,9 +163,13 @@ class VerletNeighbours {
   bool valid(const double* x, int dim, Index nReal, Index nTotal, double radius,
              double skin) const;
   /// Rebuilds the candidates with `search` (radius + skin) and remembers the positions; `half`:
-  /// half candidates (j > i), whose filtered list is then a half list too.
+  /// half candidates (j > i), whose filtered list is then a half list too; `keep`: candidates of
+  /// these phase classes only (PairFilter), and so the filtered lists too.
   void rebuild(NeighbourSearch& search, const double* x, int dim, Index nReal, Index nTotal,
-               double radius, double skin, bool half = false);
+               double radius, double skin, bool half = false,
+               const PairFilter& keep = PairFilter());
+  /// The phase classes the candidates hold (PairFilter::kept of the last rebuild).
+  PairMask pairMask() const { return mask_; }
   /// The exact list: the candidates closer than `radius` (strictly), in candidate order (a
   /// half list when the candidates are).
   void filter(const double* x, int dim, double radius, NeighbourList& out);
@@ -172,6 +192,7 @@ class VerletNeighbours {
   Index nReal_ = -1, nTotal_ = -1;
   int dim_ = 0;
   double radius_ = 0.0, skin_ = 0.0;
+  PairMask mask_ = kAllPairClasses;
   std::int64_t rebuilds_ = 0;
   std::vector<std::int64_t> threadBegin_, threadUsed_;
 };
