@@ -363,6 +363,8 @@ TEST(NeighbourPairClasses, ALeftOutClassThatAModuleReadsIsSeen) {
     std::printf("left out bit %u: accelerations change by %.3g m/s^2, pressures by %.3g Pa\n", drop,
                 da, dp);
     EXPECT_GT(da, 1e-3) << "bit " << drop;
-    if (drop == wallRowsFluid) EXPECT_GT(dp, 1.0) << "the walls' pressure";
+    if (drop == wallRowsFluid) {
+      EXPECT_GT(dp, 1.0) << "the walls' pressure";
+    }
   }
 }
