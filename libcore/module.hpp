@@ -90,6 +90,15 @@ class Module {
   /// (libcore/phases.hpp). A module that only reads neighbours of another phase (e.g. the fluid
   /// extrapolating its pressure onto a solid) does not own that class.
   virtual std::vector<PairClass> ownedPairs() const { return {}; }
+  /// The pair classes (libcore/phases.hpp PairMask) of every pair that some loop of this module,
+  /// as configured, reads from the neighbour lists (sim.neighbours, sim.neighbourCandidates()),
+  /// in either particle's row: also a class whose pairs a loop only looks at to skip them by
+  /// the neighbour's phase is read when the loop's result depends on them (a sum over every
+  /// neighbour). The lists keep the classes that some module reads and leave the others out at
+  /// the search (issue 17: a dam break's wall-wall pairs, a third of the candidates, which no
+  /// loop reads). A class is kept or left out whole, for every row of its two phases. Default:
+  /// every class (nothing is left out while a module keeps the default).
+  virtual PairMask neighbourPairsRead() const { return kAllPairClasses; }
   /// True when every neighbour loop of this module, as configured, works on a half list
   /// (NeighbourList::half: each pair of real particles once; scene key `neighbour_list`).
   virtual bool supportsHalfNeighbourList() const { return false; }

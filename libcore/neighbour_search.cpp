@@ -118,7 +118,7 @@ void NeighbourSearch::copySortedPositions(const double* x, Index n) {
 
 template <int D>
 void NeighbourSearch::buildDim(const double* x, Index nReal, Index nTotal, double radius,
-                               NeighbourList& out, bool half) {
+                               NeighbourList& out, bool half, const PairFilter& keep) {
   out.half = half;
   // Cells of half the radius: the candidates of a particle fill a box of (radius + cell) half
   // width instead of (2 radius) for cells of one radius; rows are then pruned to the sphere.
@@ -138,6 +138,20 @@ void NeighbourSearch::buildDim(const double* x, Index nReal, Index nTotal, doubl
   regionUsed_.assign(static_cast<size_t>(nThreads), 0);
   if (prevChunk_.size() < static_cast<size_t>(nThreads)) prevChunk_.resize(static_cast<size_t>(nThreads), 0);
   bool anyOverflow = false;
+  // Pair classes (PairFilter): off when every class is kept or a particle has a phase outside
+  // [0, kPhaseCount) (then every pair is kept, as documented).
+  bool filterOn = keep.active();
+  if (filterOn) {
+    int bad = 0;
+    const std::int32_t* ph = keep.phase;
+#pragma omp parallel for schedule(static) reduction(max : bad)
+    for (Index i = 0; i < nTotal; ++i)
+      bad = std::max(bad, static_cast<int>(static_cast<std::uint32_t>(ph[i]) >=
+                                           static_cast<std::uint32_t>(kPhaseCount)));
+    filterOn = bad == 0;
+  }
+  const std::int32_t* phase = keep.phase;
+  const PairMask mask = keep.mask;
   // The traversal is the cell walk's (libcore/cell_walk.hpp): the same rows of cells, pruned
   // to the sphere, in slot order; here every candidate is appended and kept when inside.
   const CellWalk<D> walk(grid(), x, radius);
@@ -174,6 +188,14 @@ void NeighbourSearch::buildDim(const double* x, Index nReal, Index nTotal, doubl
     for (Index i = i0; i < i1; ++i) {
       // Smallest index kept, minus one: j > i for a half list, every j != i otherwise.
       const Index jFloor = half ? i : Index(-1);
+      // The neighbour phases row i keeps (bit q: phase q), with the pair-class filter.
+      constexpr std::uint32_t kEvery = (1u << kPhaseCount) - 1;
+      const std::uint32_t rowKeep =
+          filterOn ? (mask >> (static_cast<std::uint32_t>(phase[i]) * kPhaseCount)) & kEvery : kEvery;
+      if (rowKeep == 0) {  // no class of this row's phase is read: an empty row, not searched
+        cnt.push_back(0);
+        continue;
+      }
       const typename CellWalk<D>::Span sp = walk.span(i);
       // Room for every candidate of this particle: all particles of the block of cells.
       {
@@ -192,11 +214,21 @@ void NeighbourSearch::buildDim(const double* x, Index nReal, Index nTotal, doubl
         if (!inRegion) dst = idx.data();
       }
       const std::size_t start = used;
-      // Branch-free append: write every candidate, keep it when inside the radius.
-      walk.candidates(i, sp, [&](Index j, double r2) {
-        dst[used] = static_cast<std::uint32_t>(j);
-        used += static_cast<std::size_t>((r2 < r2max) & (j != i) & (j > jFloor));
-      });
+      // Branch-free append: write every candidate, keep it when inside the radius (and, with
+      // the pair-class filter, when row i keeps the neighbour's phase).
+      if (filterOn && rowKeep != kEvery) {
+        walk.candidates(i, sp, [&](Index j, double r2) {
+          dst[used] = static_cast<std::uint32_t>(j);
+          const std::uint32_t pj = static_cast<std::uint32_t>(phase[j]);
+          used += static_cast<std::size_t>((r2 < r2max) & (j != i) & (j > jFloor) &
+                                           ((rowKeep >> pj) & 1u));
+        });
+      } else {
+        walk.candidates(i, sp, [&](Index j, double r2) {
+          dst[used] = static_cast<std::uint32_t>(j);
+          used += static_cast<std::size_t>((r2 < r2max) & (j != i) & (j > jFloor));
+        });
+      }
       cnt.push_back(static_cast<std::int64_t>(used - start));
       total += used - start;
     }
@@ -223,7 +255,7 @@ void NeighbourSearch::buildDim(const double* x, Index nReal, Index nTotal, doubl
         out.index.resize(n);
       } else {
         // The list grew: assemble it in a new array (allocates; only when the list grows).
-        std::vector<std::uint32_t> fresh;
+        NeighbourList::IndexVector fresh;
         // Room for the regions of the next build (chunk + 1/8 + 1024 each), so that a steady
         // list does not reallocate again.
         fresh.reserve(n + n / 8 + 1024 * static_cast<std::size_t>(nt));
@@ -253,7 +285,7 @@ void NeighbourSearch::buildDim(const double* x, Index nReal, Index nTotal, doubl
 }
 
 void NeighbourSearch::build(const double* x, int dim, Index nReal, Index nTotal, double radius,
-                            NeighbourList& out, bool half) {
+                            NeighbourList& out, bool half, const PairFilter& keep) {
   if (!(radius > 0.0) || !(radius * radius > 0.0) || !std::isfinite(radius * radius))
     throw std::logic_error("neighbour search: radius must be positive and finite (and its square "
                            "a normal double), got " + std::to_string(radius));
@@ -261,7 +293,9 @@ void NeighbourSearch::build(const double* x, int dim, Index nReal, Index nTotal,
     throw std::logic_error("neighbour search: need 0 <= nReal <= nTotal");
   if (nTotal > static_cast<Index>(std::numeric_limits<std::uint32_t>::max()))
     throw std::logic_error("neighbour search: more than 2^32 particles in one store");
-  dispatchDimension(dim, [&](auto d) { buildDim<decltype(d)::value>(x, nReal, nTotal, radius, out, half); });
+  dispatchDimension(dim, [&](auto d) {
+    buildDim<decltype(d)::value>(x, nReal, nTotal, radius, out, half, keep);
+  });
 }
 
 void NeighbourSearch::sortCells(const double* x, int dim, Index nTotal, double radius) {
@@ -338,10 +372,12 @@ bool VerletNeighbours::valid(const double* x, int dim, Index nReal, Index nTotal
 }
 
 void VerletNeighbours::rebuild(NeighbourSearch& search, const double* x, int dim, Index nReal,
-                               Index nTotal, double radius, double skin, bool half) {
+                               Index nTotal, double radius, double skin, bool half,
+                               const PairFilter& keep) {
   if (!(skin >= 0.0) || !std::isfinite(skin))
     throw std::logic_error("Verlet list: skin must be >= 0 and finite, got " + std::to_string(skin));
-  search.build(x, dim, nReal, nTotal, radius + skin, cand_, half);
+  search.build(x, dim, nReal, nTotal, radius + skin, cand_, half, keep);
+  mask_ = keep.kept();
   x0_.assign(x, x + static_cast<size_t>(nReal) * static_cast<size_t>(dim));
   nReal_ = nReal;
   nTotal_ = nTotal;

@@ -15,21 +15,64 @@
 // a pair of a real particle and a ghost stays in the real particle's row as in the full list
 // (ghosts have no row; the mirrored pair sits in the row of the ghost's source).
 #include <cstdint>
+#include <memory>
+#include <new>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
+#include "libcore/phases.hpp"
 #include "libcore/types.hpp"
 
 namespace poresph {
 
+/// std::allocator whose resize leaves the added elements uninitialised (default-initialised)
+/// instead of zeroing them: the list arrays are always written before they are read, and the
+/// Verlet filter grows the exact list back to the candidates' size every step (issue 17: that
+/// zero-fill was the largest serial part of the step, docs/performance.md).
+template <class T>
+struct DefaultInitAllocator : std::allocator<T> {
+  template <class U>
+  struct rebind {
+    using other = DefaultInitAllocator<U>;
+  };
+  DefaultInitAllocator() noexcept = default;
+  template <class U>
+  DefaultInitAllocator(const DefaultInitAllocator<U>&) noexcept {}
+  template <class U>
+  void construct(U* p) noexcept(std::is_nothrow_default_constructible<U>::value) {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+
 struct NeighbourList {
+  using IndexVector = std::vector<std::uint32_t, DefaultInitAllocator<std::uint32_t>>;
   std::vector<std::int64_t> offset;   ///< size nReal + 1
-  std::vector<std::uint32_t> index;   ///< neighbours of i: index[offset[i] .. offset[i+1])
+  IndexVector index;                  ///< neighbours of i: index[offset[i] .. offset[i+1])
   bool half = false;  ///< only j > i in row i (real-real pairs once; see above)
   Index realCount() const { return offset.empty() ? 0 : static_cast<Index>(offset.size()) - 1; }
   std::int64_t pairCount() const { return offset.empty() ? 0 : offset.back(); }
   std::size_t bytes() const {
     return offset.capacity() * sizeof(std::int64_t) + index.capacity() * sizeof(std::uint32_t);
   }
+};
+
+/// Which pairs a search keeps, by the phases of the two particles (Simulation::neighbourPairMask):
+/// with `phase` set, the pair of row i and neighbour j is kept when bit phase[i] * kPhaseCount +
+/// phase[j] of `mask` is set (a class sets both of its bits, so the list stays symmetric); a row
+/// whose phase keeps no class is left empty without being searched. When a particle of
+/// [0, nTotal) has a phase outside [0, kPhaseCount) every pair is kept. The rows that remain
+/// hold their pairs in the order of the unfiltered list.
+struct PairFilter {
+  const std::int32_t* phase = nullptr;  ///< of particles [0, nTotal) (a ghost: its source's)
+  PairMask mask = kAllPairClasses;
+  bool active() const { return phase != nullptr && (mask & kAllPairClasses) != kAllPairClasses; }
+  /// The classes a list built with this filter holds (kAllPairClasses when inactive).
+  PairMask kept() const { return active() ? (mask & kAllPairClasses) : kAllPairClasses; }
 };
 
 class NeighbourSearch {
@@ -40,8 +83,9 @@ class NeighbourSearch {
   using CellIndex = std::uint32_t;
   /// Neighbours within `radius` (strictly closer) of each real particle.
   /// x: positions, dim components per particle. `half`: keep only j > i (a half list).
+  /// `keep`: only the pairs of these phase classes (PairFilter; default every pair).
   void build(const double* x, int dim, Index nReal, Index nTotal, double radius,
-             NeighbourList& out, bool half = false);
+             NeighbourList& out, bool half = false, const PairFilter& keep = PairFilter());
   /// Permutation that sorts particles [0, n) by cell (cell size `cellSize`), x fastest: feed it
   /// to ParticleStore::permute for cache locality.
   void cellOrder(const double* x, int dim, Index n, double cellSize, std::vector<Index>& newToOld);
@@ -74,7 +118,7 @@ class NeighbourSearch {
  private:
   template <int D>
   void buildDim(const double* x, Index nReal, Index nTotal, double radius, NeighbourList& out,
-                bool half);
+                bool half, const PairFilter& keep);
   template <int D>
   void sortIntoCells(const double* x, Index n, double cellSize);
   template <int D>
@@ -119,9 +163,13 @@ class VerletNeighbours {
   bool valid(const double* x, int dim, Index nReal, Index nTotal, double radius,
              double skin) const;
   /// Rebuilds the candidates with `search` (radius + skin) and remembers the positions; `half`:
-  /// half candidates (j > i), whose filtered list is then a half list too.
+  /// half candidates (j > i), whose filtered list is then a half list too; `keep`: candidates of
+  /// these phase classes only (PairFilter), and so the filtered lists too.
   void rebuild(NeighbourSearch& search, const double* x, int dim, Index nReal, Index nTotal,
-               double radius, double skin, bool half = false);
+               double radius, double skin, bool half = false,
+               const PairFilter& keep = PairFilter());
+  /// The phase classes the candidates hold (PairFilter::kept of the last rebuild).
+  PairMask pairMask() const { return mask_; }
   /// The exact list: the candidates closer than `radius` (strictly), in candidate order (a
   /// half list when the candidates are).
   void filter(const double* x, int dim, double radius, NeighbourList& out);
@@ -144,6 +192,7 @@ class VerletNeighbours {
   Index nReal_ = -1, nTotal_ = -1;
   int dim_ = 0;
   double radius_ = 0.0, skin_ = 0.0;
+  PairMask mask_ = kAllPairClasses;
   std::int64_t rebuilds_ = 0;
   std::vector<std::int64_t> threadBegin_, threadUsed_;
 };

@@ -41,4 +41,22 @@ struct PairClass {
   std::string name() const { return std::string(phaseName(a)) + "-" + phaseName(b); }
 };
 
+/// A set of pair classes as the rows of a neighbour list see them: bit a * kPhaseCount + b set
+/// when the rows of phase-a particles hold their phase-b neighbours. A class sets both of its
+/// bits (a loop may read a pair in either particle's row, and a half list stores it in one row
+/// only). Module::neighbourPairsRead, Simulation::neighbourPairMask (docs/performance.md "Pair
+/// classes no loop reads").
+using PairMask = std::uint32_t;
+constexpr PairMask kAllPairClasses = (PairMask(1) << (kPhaseCount * kPhaseCount)) - 1;
+/// The class of phases p and q (both bits).
+constexpr PairMask pairClassBits(std::int32_t p, std::int32_t q) {
+  return (PairMask(1) << (p * kPhaseCount + q)) | (PairMask(1) << (q * kPhaseCount + p));
+}
+/// Every class with phase p on one side (p-fluid, p-wall, p-solid, p-rigid).
+constexpr PairMask pairClassesWith(std::int32_t p) {
+  PairMask m = 0;
+  for (std::int32_t q = 0; q < kPhaseCount; ++q) m |= pairClassBits(p, q);
+  return m;
+}
+
 }  // namespace poresph

@@ -751,6 +751,7 @@ std::string describeScene(const Scene& scene) {
     o << ", measured mean " << fmt(static_cast<double>(sim.neighbours.pairCount()) /
                                    static_cast<double>(sim.neighbours.realCount()))
       << (sim.neighbours.half ? " in the half list (each pair of real particles once)" : "")
+      << (sim.neighbourPairMask() != kAllPairClasses ? " (the pair classes the modules read)" : "")
       << ", list " << fmt(static_cast<double>(sim.neighbours.bytes()) / 1048576.0) << " MiB";
   o << "\n";
   o << "time:         end_time " << scene.endTime << " s, integrator " << scene.integrator << ", ";

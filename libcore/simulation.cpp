@@ -125,7 +125,13 @@ void Simulation::updateNeighbours() {
   // skin / 2 of it at the search, so its image exists; two images closer than support now were
   // closer than support + skin then, so the pair is among the candidates.
   verletActive_ = neighbourSkin > 0.0;
-  if (verletActive_ && verlet.candidates().half != halfNeighbourList) verlet.invalidate();
+  // The pair classes the lists keep (the phase pointer taken at each search: the halo may
+  // reallocate the store).
+  const PairMask pairMask = neighbourPairMask();
+  auto keep = [&] { return PairFilter{store.data(store.phase()), pairMask}; };
+  if (verletActive_ &&
+      (verlet.candidates().half != halfNeighbourList || verlet.pairMask() != keep().kept()))
+    verlet.invalidate();
   if (verletActive_ && verlet.valid(store.data(store.position()), dimension(), store.realCount(),
                                     store.size(), support, neighbourSkin)) {
     halo.refresh(store);
@@ -147,18 +153,25 @@ void Simulation::updateNeighbours() {
     neighbours.half = true;
     if (neighbours.offset.capacity() > 0 || neighbours.index.capacity() > 0) {
       std::vector<std::int64_t>().swap(neighbours.offset);
-      std::vector<std::uint32_t>().swap(neighbours.index);
+      NeighbourList::IndexVector().swap(neighbours.index);
     }
     return;
   }
   if (verletActive_) {
     verlet.rebuild(search, store.data(store.position()), dimension(), store.realCount(),
-                   store.size(), support, neighbourSkin, halfNeighbourList);
+                   store.size(), support, neighbourSkin, halfNeighbourList, keep());
     verlet.filter(store.data(store.position()), dimension(), support, neighbours);
     return;
   }
   search.build(store.data(store.position()), dimension(), store.realCount(), store.size(), support,
-               neighbours, halfNeighbourList);
+               neighbours, halfNeighbourList, keep());
+}
+
+PairMask Simulation::neighbourPairMask() const {
+  if (modules.empty()) return kAllPairClasses;
+  PairMask m = extraNeighbourPairs;
+  for (const auto& mod : modules) m |= mod->neighbourPairsRead();
+  return m & kAllPairClasses;
 }
 
 void Simulation::chooseNeighbourList() {

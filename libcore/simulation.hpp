@@ -97,6 +97,17 @@ class Simulation {
   /// Sets halfNeighbourList. With the choice `half`, throws InputError naming the first module
   /// that needs the full list (as configured).
   void chooseNeighbourList();
+  /// Pair classes read outside the modules' loops (a test or a tool reading sim.neighbours),
+  /// added to the modules' in neighbourPairMask(); kAllPairClasses keeps every pair.
+  PairMask extraNeighbourPairs = 0;
+  /// The pair classes (libcore/phases.hpp) the neighbour lists keep: the union of the modules'
+  /// Module::neighbourPairsRead() and extraNeighbourPairs, every class when there is no module.
+  /// The search leaves the pairs of the other classes out (the Verlet candidates too), so the
+  /// loops do not sweep pairs that none of them reads (issue 17, docs/performance.md "Pair
+  /// classes no loop reads"); every real particle keeps its row (empty when its phase reads no
+  /// class). Asked at every updateNeighbours: a module added later is taken at once (the
+  /// candidates of another mask are searched again).
+  PairMask neighbourPairMask() const;
   /// The candidates of the last search: the Verlet candidates (radius support + skin) when the
   /// skin is active, the exact list otherwise. A superset of every neighbour list until
   /// neighbourBuilds() changes (then the store may also have been reordered).

@@ -24,6 +24,8 @@ class ContactModule : public Module {
   std::vector<PairClass> ownedPairs() const override {
     return {PairClass(kPhaseSolid, kPhaseWall)};
   }
+  /// The solid rows' wall neighbours only.
+  PairMask neighbourPairsRead() const override { return pairClassBits(kPhaseSolid, kPhaseWall); }
   void configure(Simulation& sim, const std::vector<const Material*>& materials,
                  const ParameterSet* section) override;
   void initialise(Simulation& sim) override;

@@ -42,6 +42,8 @@ class CouplingModule : public Module {
   std::vector<PairClass> ownedPairs() const override {
     return {PairClass(kPhaseFluid, kPhaseSolid)};
   }
+  /// The fluid rows' solid neighbours and the solid rows' fluid neighbours only.
+  PairMask neighbourPairsRead() const override { return pairClassBits(kPhaseFluid, kPhaseSolid); }
   void configure(Simulation& sim, const std::vector<const Material*>& materials,
                  const ParameterSet* section) override;
   void initialise(Simulation& sim) override;

@@ -47,6 +47,12 @@ class DrainageModule : public Module {
  public:
   std::string name() const override { return "drainage"; }
   std::vector<std::string> materialModels() const override { return {}; }
+  /// The pore size reads the fluid rows' boundary neighbours of every phase; the percolation
+  /// test links fluid particles, and the flow-path test also damaged solid ones (fluid-fluid,
+  /// fluid-solid, solid-solid).
+  PairMask neighbourPairsRead() const override {
+    return pairClassesWith(kPhaseFluid) | pairClassBits(kPhaseSolid, kPhaseSolid);
+  }
   void configure(Simulation& sim, const std::vector<const Material*>& materials,
                  const ParameterSet* section) override;
   void initialise(Simulation& sim) override;

@@ -112,6 +112,11 @@ class FluidModule : public Module {
   std::vector<PairClass> ownedPairs() const override {
     return {PairClass(kPhaseFluid, kPhaseFluid), PairClass(kPhaseFluid, kPhaseWall)};
   }
+  /// Every class with a fluid side: a fluid row's sums run over every neighbour (density
+  /// summation, viscous moment, shifting, transport velocity, walls, solids and rigid particles
+  /// as boundaries), a boundary row of any phase reads its fluid neighbours (the pressure and
+  /// velocity extrapolation, wet flags). No pair of two boundary particles is read.
+  PairMask neighbourPairsRead() const override { return pairClassesWith(kPhaseFluid); }
   /// Every loop has a symmetric form for a half list (fluid_half.cpp) except the surface
   /// tension's (colour gradient, curvature, CSF), which needs the full list.
   bool supportsHalfNeighbourList() const override {  // CSF, light_mirror, wall_background_pressure, wall_push_only, wall_overlap_pressure: full list

@@ -102,6 +102,9 @@ class RigidModule : public Module {
     return {PairClass(kPhaseFluid, kPhaseRigid), PairClass(kPhaseSolid, kPhaseRigid),
             PairClass(kPhaseRigid, kPhaseRigid), PairClass(kPhaseWall, kPhaseRigid)};
   }
+  /// Every class with a rigid side (the rigid rows read all their neighbours; fluid and solid
+  /// rows their rigid ones).
+  PairMask neighbourPairsRead() const override { return pairClassesWith(kPhaseRigid); }
   void configure(Simulation& sim, const std::vector<const Material*>& materials,
                  const ParameterSet* section) override;
   void initialise(Simulation& sim) override;
