@@ -232,20 +232,21 @@ void FluidModule::configure(Simulation& sim, const std::vector<const Material*>&
     wallPushOnly_ = s.boolean("wall_push_only", false);
     // wall_overlap_pressure (issue 16; a short-range repulsion, named as such: it does not remove
     // the cause below, it stops its effect at the face). The fixed walls' kernel sum at a fluid
-    // particle a, S_w = sum_w V_w W_aw, is 1/2 at the face of a wall at least a support thick
+    // particle a, S_w = sum_w V_w W_aw (with the rigid bodies' share, so that a face where a
+    // wall meets a plate counts as one face), is 1/2 at the face of a wall at least a support thick
     // (the half-space of a normalised kernel; quintic h = dx on the lattice: 0.500 at the face,
     // 0.215 at the first fluid layer, +0.62 per dx beyond the face, the same on a wall
     // particle's row as between two), whatever the lattice under the face. With the key a
     // particle past that level gets the pressure its summation density would give the overlap,
     //   a_a += -(K / rho_a) (S_w - 1/2)+ grad_a S_w,    K = rho0 c0^2 (the fluid's bulk modulus),
     // the gradient of the energy sum_a V_a K (S_w,a - 1/2)+^2 / 2 (a fixed wall needs no
-    // reaction; the clay and the plates keep their own pairs). Walls only, not the clay and the
-    // plates (S_b, the first form): in imaged rock a fluid particle in a one-voxel pore along a
-    // wall has S_b above 1/2 on the lattice at rest (the clay on its other sides), and the
-    // thesis-size scene's such particle was thrown off the wall at the first step (density check
-    // at step 9). Cost of walls only: where a wall meets a plate in one face (the main job's
-    // y = 0 face at z 0.6-0.7 mm) the face's level is reached later, a few water particles
-    // ~0.2 dx past it. Zero for every particle on the fluid side of a flat face. Why it is
+    // reaction; the clay and the plates keep their own pairs). Walls and rigid bodies, not the
+    // clay (S_b over every boundary, the first form): in imaged rock a fluid particle in a
+    // one-voxel pore along a wall has S_b above 1/2 on the lattice at rest (the clay on its other
+    // sides), and the thesis-size scene's such particle was thrown off the wall at the first step
+    // (density check at step 9). Walls alone leave the main job's y = 0 face at z 0.6-0.7 mm
+    // (wall below the plate's edge) reached late: water 0.21 dx past it at 11.8 ms. Zero for
+    // every particle on the fluid side of a flat face. Why it is
     // needed: the Adami wall pushes a fluid particle through the pressure of its continuity
     // density only; in the main job a reservoir gas particle at the wall-clay corner overlapped
     // the wall by S_w 0.36 -> 0.97 while its density stayed 1000-1006 kg/m^3, because its
@@ -1334,7 +1335,11 @@ void FluidModule::forcesD(Simulation& sim) {
           }
           continue;
         }
-        if (f.ph[j] != kPhaseFluid) continue;  // fluid-solid / fluid-rigid: the coupling's pairs
+        if (f.ph[j] != kPhaseFluid) {  // fluid-solid / fluid-rigid: the coupling's pairs
+          // wall_overlap_pressure: a plate's (rigid) share of the face level, not the clay's
+          if (wallOverlap_ && f.ph[j] == kPhaseRigid) sW += vol[j] * K.value(r.norm());
+          continue;
+        }
         const int idb = f.mt[j];
         const double rhob = f.rho[j], pb = f.p[j];
         const double mub = (idb >= 0 && idb < nm) ? md[idb].viscosity : mua;

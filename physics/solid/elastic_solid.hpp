@@ -133,6 +133,9 @@ class ElasticSolidModule : public Module {
   std::vector<PairClass> ownedPairs() const override {
     return {PairClass(kPhaseSolid, kPhaseSolid)};
   }
+  /// The small-strain formulation's rows read their solid neighbours (strain, continuity); the
+  /// Total-Lagrangian one reads its own reference families, not the lists. No other class.
+  PairMask neighbourPairsRead() const override { return pairClassBits(kPhaseSolid, kPhaseSolid); }
   void diagnostics(const Simulation& sim,
                    std::vector<std::pair<std::string, double>>& columns) const override;
   /// Solid speed against the wave speed (Eq. 2.50) and J = det F > 0 (TL); docs/reliability.md.
