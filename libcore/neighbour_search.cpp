@@ -18,6 +18,58 @@ namespace poresph {
 // Cell edge / radius of the search (0.5: measured fastest, docs/performance.md).
 constexpr double kCellFraction = PORESPH_CELL_FRACTION;
 
+namespace {
+// The traversal of CellWalk<D>::candidates (libcore/cell_walk.hpp: the same rows of cells, the
+// same x-cut of each row, the same slots in the same order) for a half list, where a candidate
+// j <= i is never kept: the cells at the start of a row's range whose particles all have an
+// index <= i are passed over (the counting sort is stable, so the last slot of a cell holds its
+// largest index). Only rejected candidates are left out: the list is the same, bit for bit
+// (tests/unit/test_cell_walk.cpp compares it with the walk). With the store in cell order
+// (Simulation::reorderEvery) the rows below particle i are mostly such cells.
+template <int D, class V>
+inline void halfCandidates(const NeighbourSearch::Grid& g, const double* x, double r2max, Index i,
+                           const typename CellWalk<D>::Span& sp, V&& visit) {
+  const double* xi = x + i * D;
+  const double* xs = g.xs;
+  const NeighbourSearch::CellIndex* sorted = g.sorted;
+  const NeighbourSearch::CellIndex* cellStart = g.cellStart;
+  const int dimsX = g.dims[0], dimsY = g.dims[1];
+  const double ox = g.origin[0], invCell = g.invCell, margin = g.margin;
+  const double xi0 = xi[0];
+  const std::uint32_t ui = static_cast<std::uint32_t>(i);
+  for (int cz = sp.zlo; cz <= sp.zhi; ++cz) {
+    const double gzz = sp.gz2[cz - sp.zlo];
+    if (gzz >= r2max) continue;
+    for (int cy = sp.ylo; cy <= sp.yhi; ++cy) {
+      const double g2 = gzz + sp.gy2[cy - sp.ylo];
+      if (g2 >= r2max) continue;
+      const double ext = std::sqrt(r2max - g2) * (1.0 + 1e-12) + margin;
+      const double flo = (xi0 - ext - ox) * invCell, fhi = (xi0 + ext - ox) * invCell;
+      const int xlo = flo <= 0.0 ? 0 : static_cast<int>(flo);
+      const int xhi = fhi >= dimsX - 1 ? dimsX - 1 : static_cast<int>(fhi);
+      const Index rowBase = (static_cast<Index>(cz) * dimsY + cy) * dimsX;
+      const Index je = static_cast<Index>(cellStart[rowBase + xhi + 1]);
+      // Skip the leading cells of the range that hold only indices <= i (or nothing).
+      Index c = rowBase + xlo;
+      const Index cEnd = rowBase + xhi + 1;
+      while (c < cEnd) {
+        const Index e = static_cast<Index>(cellStart[c + 1]);
+        if (e > static_cast<Index>(cellStart[c]) && sorted[e - 1] > ui) break;
+        ++c;
+      }
+      for (Index s = static_cast<Index>(cellStart[c]); s < je; ++s) {
+        double r2 = 0.0;
+        for (int a = 0; a < D; ++a) {
+          const double dx = xi[a] - xs[s * D + a];
+          r2 += dx * dx;
+        }
+        visit(static_cast<Index>(sorted[s]), r2);
+      }
+    }
+  }
+}
+}  // namespace
+
 template <int D>
 void NeighbourSearch::sortIntoCells(const double* x, Index n, double cellSize) {
   // Bounding box of all particles (ghosts included). A NaN or Inf position is an error: it would
@@ -154,7 +206,8 @@ void NeighbourSearch::buildDim(const double* x, Index nReal, Index nTotal, doubl
   const PairMask mask = keep.mask;
   // The traversal is the cell walk's (libcore/cell_walk.hpp): the same rows of cells, pruned
   // to the sphere, in slot order; here every candidate is appended and kept when inside.
-  const CellWalk<D> walk(grid(), x, radius);
+  const NeighbourSearch::Grid g = grid();
+  const CellWalk<D> walk(g, x, radius);
 #pragma omp parallel num_threads(nThreads)
   {
     const int t = omp_get_thread_num();
@@ -216,15 +269,21 @@ void NeighbourSearch::buildDim(const double* x, Index nReal, Index nTotal, doubl
       const std::size_t start = used;
       // Branch-free append: write every candidate, keep it when inside the radius (and, with
       // the pair-class filter, when row i keeps the neighbour's phase).
+      const auto walkRow = [&](auto&& visit) {
+        if (half)
+          halfCandidates<D>(g, x, r2max, i, sp, visit);
+        else
+          walk.candidates(i, sp, visit);
+      };
       if (filterOn && rowKeep != kEvery) {
-        walk.candidates(i, sp, [&](Index j, double r2) {
+        walkRow([&](Index j, double r2) {
           dst[used] = static_cast<std::uint32_t>(j);
           const std::uint32_t pj = static_cast<std::uint32_t>(phase[j]);
           used += static_cast<std::size_t>((r2 < r2max) & (j != i) & (j > jFloor) &
                                            ((rowKeep >> pj) & 1u));
         });
       } else {
-        walk.candidates(i, sp, [&](Index j, double r2) {
+        walkRow([&](Index j, double r2) {
           dst[used] = static_cast<std::uint32_t>(j);
           used += static_cast<std::size_t>((r2 < r2max) & (j != i) & (j > jFloor));
         });
