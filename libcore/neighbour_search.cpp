@@ -17,6 +17,10 @@ namespace poresph {
 #endif
 // Cell edge / radius of the search (0.5: measured fastest, docs/performance.md).
 constexpr double kCellFraction = PORESPH_CELL_FRACTION;
+// Below this many particles the passes of a search run without an OpenMP region (a region costs
+// ~2k instructions even at one thread; the box at rest, 676 particles, rebuilds every step).
+// The results do not depend on it: min/max reductions and per-particle writes are exact.
+constexpr Index kSerialBelow = 4096;
 
 namespace {
 // The traversal of CellWalk<D>::candidates (libcore/cell_walk.hpp: the same rows of cells, the
@@ -79,12 +83,17 @@ void NeighbourSearch::sortIntoCells(const double* x, Index n, double cellSize) {
   for (int a = 0; a < D; ++a) {
     double mn = std::numeric_limits<double>::max(), mx = -std::numeric_limits<double>::max();
     int bad = 0;
-#pragma omp parallel for reduction(min : mn) reduction(max : mx, bad) schedule(static)
-    for (Index i = 0; i < n; ++i) {
+    const auto scan = [&](Index i, double& lo_, double& hi_, int& bad_) {
       const double v = x[i * D + a];
-      if (!std::isfinite(v)) bad = 1;
-      mn = std::min(mn, v);
-      mx = std::max(mx, v);
+      if (!std::isfinite(v)) bad_ = 1;
+      lo_ = std::min(lo_, v);
+      hi_ = std::max(hi_, v);
+    };
+    if (n < kSerialBelow) {
+      for (Index i = 0; i < n; ++i) scan(i, mn, mx, bad);
+    } else {
+#pragma omp parallel for reduction(min : mn) reduction(max : mx, bad) schedule(static)
+      for (Index i = 0; i < n; ++i) scan(i, mn, mx, bad);
     }
     if (bad) {
       Index first = 0;
@@ -133,8 +142,7 @@ void NeighbourSearch::sortIntoCells(const double* x, Index n, double cellSize) {
     throw std::logic_error("neighbour search: " + std::to_string(nCells_) +
                            " cells exceed the 32-bit cell index");
   cellOf_.resize(static_cast<size_t>(n));
-#pragma omp parallel for schedule(static)
-  for (Index i = 0; i < n; ++i) {
+  const auto bin = [&](Index i) {
     Index c = 0;
     for (int a = D - 1; a >= 0; --a) {
       int k = static_cast<int>((x[i * D + a] - origin_[a]) * invCell_);
@@ -142,6 +150,12 @@ void NeighbourSearch::sortIntoCells(const double* x, Index n, double cellSize) {
       c = c * dims_[a] + k;
     }
     cellOf_[static_cast<size_t>(i)] = static_cast<CellIndex>(c);
+  };
+  if (n < kSerialBelow) {
+    for (Index i = 0; i < n; ++i) bin(i);
+  } else {
+#pragma omp parallel for schedule(static)
+    for (Index i = 0; i < n; ++i) bin(i);
   }
   // Counting sort (stable: particles keep their order within a cell). cellStart_[c] serves as
   // the cursor of cell c while filling (it then holds the end of c, the start of c + 1) and is
@@ -162,9 +176,15 @@ template <int D>
 void NeighbourSearch::copySortedPositions(const double* x, Index n) {
   // Positions in cell order: the candidates of a row of cells are contiguous in memory.
   xs_.resize(static_cast<size_t>(n) * D);
-#pragma omp parallel for schedule(static)
-  for (Index s = 0; s < n; ++s)
+  const auto copy = [&](Index s) {
     for (int a = 0; a < D; ++a) xs_[static_cast<size_t>(s * D + a)] = x[sorted_[static_cast<size_t>(s)] * D + a];
+  };
+  if (n < kSerialBelow) {
+    for (Index s = 0; s < n; ++s) copy(s);
+  } else {
+#pragma omp parallel for schedule(static)
+    for (Index s = 0; s < n; ++s) copy(s);
+  }
   gridCount_ = n;
 }
 
@@ -196,10 +216,16 @@ void NeighbourSearch::buildDim(const double* x, Index nReal, Index nTotal, doubl
   if (filterOn) {
     int bad = 0;
     const std::int32_t* ph = keep.phase;
+    const auto check = [&](Index i, int& bad_) {
+      bad_ = std::max(bad_, static_cast<int>(static_cast<std::uint32_t>(ph[i]) >=
+                                             static_cast<std::uint32_t>(kPhaseCount)));
+    };
+    if (nTotal < kSerialBelow) {
+      for (Index i = 0; i < nTotal; ++i) check(i, bad);
+    } else {
 #pragma omp parallel for schedule(static) reduction(max : bad)
-    for (Index i = 0; i < nTotal; ++i)
-      bad = std::max(bad, static_cast<int>(static_cast<std::uint32_t>(ph[i]) >=
-                                           static_cast<std::uint32_t>(kPhaseCount)));
+      for (Index i = 0; i < nTotal; ++i) check(i, bad);
+    }
     filterOn = bad == 0;
   }
   const std::int32_t* phase = keep.phase;
@@ -208,10 +234,10 @@ void NeighbourSearch::buildDim(const double* x, Index nReal, Index nTotal, doubl
   // to the sphere, in slot order; here every candidate is appended and kept when inside.
   const NeighbourSearch::Grid g = grid();
   const CellWalk<D> walk(g, x, radius);
-#pragma omp parallel num_threads(nThreads)
-  {
-    const int t = omp_get_thread_num();
-    const int nt = omp_get_num_threads();
+  // One thread, or few particles: the region's body runs on the calling thread, without an
+  // OpenMP region (its single/barrier constructs then bind to a team of one).
+  const bool serial = nThreads == 1 || nTotal < kSerialBelow;
+  const auto region = [&](const int t, const int nt) {
     const Index i0 = nReal * t / nt, i1 = nReal * (t + 1) / nt;
     auto& idx = threadIndex_[static_cast<size_t>(t)];
     auto& cnt = threadCount_[static_cast<size_t>(t)];
@@ -339,6 +365,12 @@ void NeighbourSearch::buildDim(const double* x, Index nReal, Index nTotal, doubl
       out.offset[static_cast<size_t>(i)] = o;
       o += cnt[static_cast<size_t>(i - i0)];
     }
+  };
+  if (serial) {
+    region(0, 1);
+  } else {
+#pragma omp parallel num_threads(nThreads)
+    region(omp_get_thread_num(), omp_get_num_threads());
   }
   out.offset[static_cast<size_t>(nReal)] = static_cast<std::int64_t>(out.index.size());
 }
