@@ -79,7 +79,13 @@ class CellWalk {
   /// visit(j, r2) for every candidate j of particle i in slot order: the rows of cells of `sp`
   /// within the radius, each cut along x to the cells within sqrt(r^2 - gap^2) of x_i (the
   /// traversal of NeighbourSearch::build, which appends through it, and of row()).
-  template <class V>
+  /// kSkipLower (a half list, where a candidate j <= i is never kept): the cells at the start of
+  /// a row's range whose particles all have an index <= i are passed over (the counting sort is
+  /// stable, so the last slot of a cell holds its largest index). Only candidates a half list
+  /// rejects are left out, the others in the same order (tests/unit/test_cell_walk.cpp); with the
+  /// store in cell order (Simulation::reorderEvery) the rows below particle i are mostly such
+  /// cells (the 2D box at rest: -19 % of the search's instructions).
+  template <bool kSkipLower = false, class V>
   void candidates(Index i, const Span& sp, V&& visit) const {
     const double* xi = x_ + i * D;
     const double* xs = g_.xs;
@@ -101,8 +107,17 @@ class CellWalk {
         const int xhi = fhi >= dimsX - 1 ? dimsX - 1 : static_cast<int>(fhi);
         // Cells xlo..xhi of a row are contiguous in the sorted order: one range per row.
         const Index rowBase = (static_cast<Index>(cz) * dimsY + cy) * dimsX;
-        const Index jb = static_cast<Index>(cellStart[rowBase + xlo]);
+        Index c = rowBase + xlo;
         const Index je = static_cast<Index>(cellStart[rowBase + xhi + 1]);
+        if constexpr (kSkipLower) {
+          const Index cEnd = rowBase + xhi + 1;
+          while (c < cEnd) {
+            const Index e = static_cast<Index>(cellStart[c + 1]);
+            if (e > static_cast<Index>(cellStart[c]) && static_cast<Index>(sorted[e - 1]) > i) break;
+            ++c;
+          }
+        }
+        const Index jb = static_cast<Index>(cellStart[c]);
         for (Index s = jb; s < je; ++s) {
           double r2 = 0.0;
           for (int a = 0; a < D; ++a) {

@@ -22,57 +22,6 @@ constexpr double kCellFraction = PORESPH_CELL_FRACTION;
 // The results do not depend on it: min/max reductions and per-particle writes are exact.
 constexpr Index kSerialBelow = 4096;
 
-namespace {
-// The traversal of CellWalk<D>::candidates (libcore/cell_walk.hpp: the same rows of cells, the
-// same x-cut of each row, the same slots in the same order) for a half list, where a candidate
-// j <= i is never kept: the cells at the start of a row's range whose particles all have an
-// index <= i are passed over (the counting sort is stable, so the last slot of a cell holds its
-// largest index). Only rejected candidates are left out: the list is the same, bit for bit
-// (tests/unit/test_cell_walk.cpp compares it with the walk). With the store in cell order
-// (Simulation::reorderEvery) the rows below particle i are mostly such cells.
-template <int D, class V>
-inline void halfCandidates(const NeighbourSearch::Grid& g, const double* x, double r2max, Index i,
-                           const typename CellWalk<D>::Span& sp, V&& visit) {
-  const double* xi = x + i * D;
-  const double* xs = g.xs;
-  const NeighbourSearch::CellIndex* sorted = g.sorted;
-  const NeighbourSearch::CellIndex* cellStart = g.cellStart;
-  const int dimsX = g.dims[0], dimsY = g.dims[1];
-  const double ox = g.origin[0], invCell = g.invCell, margin = g.margin;
-  const double xi0 = xi[0];
-  const std::uint32_t ui = static_cast<std::uint32_t>(i);
-  for (int cz = sp.zlo; cz <= sp.zhi; ++cz) {
-    const double gzz = sp.gz2[cz - sp.zlo];
-    if (gzz >= r2max) continue;
-    for (int cy = sp.ylo; cy <= sp.yhi; ++cy) {
-      const double g2 = gzz + sp.gy2[cy - sp.ylo];
-      if (g2 >= r2max) continue;
-      const double ext = std::sqrt(r2max - g2) * (1.0 + 1e-12) + margin;
-      const double flo = (xi0 - ext - ox) * invCell, fhi = (xi0 + ext - ox) * invCell;
-      const int xlo = flo <= 0.0 ? 0 : static_cast<int>(flo);
-      const int xhi = fhi >= dimsX - 1 ? dimsX - 1 : static_cast<int>(fhi);
-      const Index rowBase = (static_cast<Index>(cz) * dimsY + cy) * dimsX;
-      const Index je = static_cast<Index>(cellStart[rowBase + xhi + 1]);
-      // Skip the leading cells of the range that hold only indices <= i (or nothing).
-      Index c = rowBase + xlo;
-      const Index cEnd = rowBase + xhi + 1;
-      while (c < cEnd) {
-        const Index e = static_cast<Index>(cellStart[c + 1]);
-        if (e > static_cast<Index>(cellStart[c]) && sorted[e - 1] > ui) break;
-        ++c;
-      }
-      for (Index s = static_cast<Index>(cellStart[c]); s < je; ++s) {
-        double r2 = 0.0;
-        for (int a = 0; a < D; ++a) {
-          const double dx = xi[a] - xs[s * D + a];
-          r2 += dx * dx;
-        }
-        visit(static_cast<Index>(sorted[s]), r2);
-      }
-    }
-  }
-}
-}  // namespace
 
 template <int D>
 void NeighbourSearch::sortIntoCells(const double* x, Index n, double cellSize) {
@@ -297,7 +246,7 @@ void NeighbourSearch::buildDim(const double* x, Index nReal, Index nTotal, doubl
       // the pair-class filter, when row i keeps the neighbour's phase).
       const auto walkRow = [&](auto&& visit) {
         if (half)
-          halfCandidates<D>(g, x, r2max, i, sp, visit);
+          walk.template candidates<true>(i, sp, visit);  // skips cells of indices <= i
         else
           walk.candidates(i, sp, visit);
       };
