@@ -21,6 +21,7 @@
 #include "libcore/scene.hpp"
 #include "physics/solid/solid_scenes.hpp"
 #include "physics/solid/wall_stress.hpp"
+#include "tests/support/pair_class_powers.hpp"
 #include "tests/support/validation_record.hpp"
 #include "tests/validation/coupling_pore_case.hpp"
 
@@ -172,59 +173,8 @@ TEST(CouplingMomentum, ExplorePowerByPairClass) {
   Module* coupling = sim.module("coupling");
   ASSERT_NE(fluid, nullptr);
   ASSERT_NE(coupling, nullptr);
-  ParticleStore& st = sim.store;
-  const Index n = st.realCount();
-  const RealField rateField = st.real("density_rate");
   // Powers of one evaluation: {ff kinetic, ff compression, fs on fluid, fs on solid, fs compression}
-  auto powers = [&] {
-    std::vector<std::vector<double>> saved;
-    for (const IntegratedField& f : sim.integrated) {
-      const double* r = st.data(f.rate);
-      saved.emplace_back(r, r + n * st.components(f.rate.id));
-    }
-    const double* accSrc = st.data(sim.acceleration);
-    std::vector<double> accSaved(accSrc, accSrc + 2 * n);
-    double* acc = st.data(sim.acceleration);
-    double* drho = st.data(rateField);
-    const double* v = st.data(st.velocity());
-    const double* m = st.data(st.mass());
-    const double* rho = st.data(st.density());
-    const std::int32_t* ph = st.data(st.phase());
-    const std::int32_t* mt = st.data(st.material());
-    auto zero = [&] {
-      std::fill(acc, acc + 2 * n, 0.0);
-      std::fill(drho, drho + n, 0.0);
-    };
-    std::array<double, 5> P{0, 0, 0, 0, 0};
-    auto eprime = [&](Index i) {
-      const FluidProperties& fp = sim.materials[static_cast<size_t>(mt[i])].fluid;
-      return pressureOf(fp, rho[i]) / (rho[i] * rho[i]);
-    };
-    zero();
-    fluid->kinematics(sim);
-    fluid->constitutive(sim);
-    fluid->forces(sim);
-    for (Index i = 0; i < n; ++i)
-      if (ph[i] == kPhaseFluid) {
-        P[0] += m[i] * (acc[2 * i] * v[2 * i] + acc[2 * i + 1] * v[2 * i + 1]);
-        P[1] += m[i] * eprime(i) * drho[i];
-      }
-    zero();
-    coupling->interfaces(sim);
-    for (Index i = 0; i < n; ++i) {
-      const double pw = m[i] * (acc[2 * i] * v[2 * i] + acc[2 * i + 1] * v[2 * i + 1]);
-      if (ph[i] == kPhaseFluid) {
-        P[2] += pw;
-        P[4] += m[i] * eprime(i) * drho[i];
-      } else if (ph[i] == kPhaseSolid) {
-        P[3] += pw;
-      }
-    }
-    for (size_t k = 0; k < sim.integrated.size(); ++k)
-      std::copy(saved[k].begin(), saved[k].end(), st.data(sim.integrated[k].rate));
-    std::copy(accSaved.begin(), accSaved.end(), acc);
-    return P;
-  };
+  auto powers = [&] { return test::pairClassPowers2D(sim, fluid, coupling); };
   const double e0 = totalEnergy(sim);
   std::array<double, 5> P0 = powers(), W{0, 0, 0, 0, 0};
   for (int k = 1; k <= steps; ++k) {

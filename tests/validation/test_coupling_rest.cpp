@@ -21,6 +21,7 @@
 
 #include "libcore/fluid_properties.hpp"
 
+#include "tests/support/pair_class_powers.hpp"
 #include "tests/validation/coupling_plate_case.hpp"
 
 using namespace poresph;
@@ -85,59 +86,8 @@ TEST(CouplingRest, ExplorePowerByPairClassOnThePlateFloor) {
   Module* coupling = sim.module("coupling");
   ASSERT_NE(fluid, nullptr);
   ASSERT_NE(coupling, nullptr);
-  ParticleStore& st = sim.store;
-  const Index n = st.realCount();
-  const RealField rateField = st.real("density_rate");
   const double g = kG * kH / height;
-  auto powers = [&] {
-    std::vector<std::vector<double>> saved;
-    for (const IntegratedField& f : sim.integrated) {
-      const double* r = st.data(f.rate);
-      saved.emplace_back(r, r + n * st.components(f.rate.id));
-    }
-    double* acc = st.data(sim.acceleration);
-    std::vector<double> accSaved(acc, acc + 2 * n);
-    double* drho = st.data(rateField);
-    const double* v = st.data(st.velocity());
-    const double* m = st.data(st.mass());
-    const double* rho = st.data(st.density());
-    const std::int32_t* ph = st.data(st.phase());
-    const std::int32_t* mt = st.data(st.material());
-    auto zero = [&] {
-      std::fill(acc, acc + 2 * n, 0.0);
-      std::fill(drho, drho + n, 0.0);
-    };
-    auto eprime = [&](Index i) {
-      const FluidProperties& fp = sim.materials[static_cast<size_t>(mt[i])].fluid;
-      return pressureOf(fp, rho[i]) / (rho[i] * rho[i]);
-    };
-    std::array<double, 5> P{0, 0, 0, 0, 0};
-    zero();
-    fluid->kinematics(sim);
-    fluid->constitutive(sim);
-    fluid->forces(sim);
-    for (Index i = 0; i < n; ++i)
-      if (ph[i] == kPhaseFluid) {
-        // gravity's power (-rate of the potential energy) taken out: the pairs' power only
-        P[0] += m[i] * (acc[2 * i] * v[2 * i] + (acc[2 * i + 1] + g) * v[2 * i + 1]);
-        P[1] += m[i] * eprime(i) * drho[i];
-      }
-    zero();
-    coupling->interfaces(sim);
-    for (Index i = 0; i < n; ++i) {
-      const double pw = m[i] * (acc[2 * i] * v[2 * i] + acc[2 * i + 1] * v[2 * i + 1]);
-      if (ph[i] == kPhaseFluid) {
-        P[2] += pw;
-        P[4] += m[i] * eprime(i) * drho[i];
-      } else if (ph[i] == kPhaseSolid) {
-        P[3] += pw;
-      }
-    }
-    for (size_t k = 0; k < sim.integrated.size(); ++k)
-      std::copy(saved[k].begin(), saved[k].end(), st.data(sim.integrated[k].rate));
-    std::copy(accSaved.begin(), accSaved.end(), acc);
-    return P;
-  };
+  auto powers = [&] { return test::pairClassPowers2D(sim, fluid, coupling, -g); };
   std::array<double, 5> P0 = powers(), W{0, 0, 0, 0, 0};
   double next = 0.025;
   std::printf("  h = %.2f dx; integrated work in J/m (water kinetic energy alongside)\n", hOverDx);
